@@ -1,0 +1,88 @@
+"""Which physical effects a model includes.
+
+A reduced model is the paper's model with some effects switched off; a scene
+names the effects it needs and the simulator builds only those.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+__all__ = ["Effects", "FULL", "EQ_2_6", "LINEAR"]
+
+SPRING_LAWS = ("power", "taylor", "linear")
+DAMPING_LAWS = ("power", "linear")
+
+
+@dataclass(frozen=True)
+class Effects:
+    """Switches of the contact model.
+
+    Parameters
+    ----------
+    contact_loss : bool
+        True: the contact force vanishes for y <= 0 (Eq. 2.1, "gapping").
+        False: the contact law is continued for y < 0, as Eq. 2.6 does; this
+        needs a polynomial law (Taylor or linear spring, or integer exponents).
+    spring : {"power", "taylor", "linear"}
+        The full power law ``-S c_n y^m2``; its Taylor polynomial about the
+        static deflection y0 of degree ``taylor_degree`` (Eq. 2.5); or its
+        linearisation about y0.
+    taylor_degree : int
+        Degree of the Taylor spring, at least 1 (used when spring="taylor").
+    damping : {"power", "linear"}
+        The full law ``-S h_n y^l ydot`` or its linearisation at y0 (Eq. 2.5).
+    gravity : bool
+        Whether the weight Q = M g presses the slider on the slideway.
+
+    Examples
+    --------
+    >>> Effects(spring="taylor", taylor_degree=2).label()
+    'contact loss, taylor-2 spring, power damping, gravity'
+    >>> Effects(spring="cubic")
+    Traceback (most recent call last):
+    ...
+    ValueError: `spring` must be one of ('power', 'taylor', 'linear'), got 'cubic'.
+    """
+
+    contact_loss: bool = True
+    spring: str = "power"
+    taylor_degree: int = 2
+    damping: str = "power"
+    gravity: bool = True
+
+    def __post_init__(self) -> None:
+        if self.spring not in SPRING_LAWS:
+            raise ValueError(f"`spring` must be one of {SPRING_LAWS}, got {self.spring!r}.")
+        if self.damping not in DAMPING_LAWS:
+            raise ValueError(
+                f"`damping` must be one of {DAMPING_LAWS}, got {self.damping!r}."
+            )
+        if int(self.taylor_degree) != self.taylor_degree or self.taylor_degree < 1:
+            raise ValueError(
+                f"`taylor_degree` must be an integer >= 1, got {self.taylor_degree!r}."
+            )
+        for name in ("contact_loss", "gravity"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"`{name}` must be True or False, got {getattr(self, name)!r}.")
+
+    def label(self) -> str:
+        spring = f"taylor-{self.taylor_degree}" if self.spring == "taylor" else self.spring
+        parts = [
+            "contact loss" if self.contact_loss else "no contact loss",
+            f"{spring} spring",
+            f"{self.damping} damping",
+            "gravity" if self.gravity else "no gravity",
+        ]
+        return ", ".join(parts)
+
+    def with_(self, **changes) -> "Effects":
+        return replace(self, **changes)
+
+
+#: Eq. 2.1-2.4: every effect on.
+FULL = Effects()
+#: Eq. 2.6: quadratic Taylor spring, linearised damping, no contact loss.
+EQ_2_6 = Effects(contact_loss=False, spring="taylor", taylor_degree=2, damping="linear")
+#: The linearised model about y0: a damped linear oscillator.
+LINEAR = Effects(contact_loss=False, spring="linear", damping="linear")

@@ -1,0 +1,155 @@
+"""The physical model of Eq. 2.1-2.4 as sympy expressions.
+
+This is the one source of truth: the simulator in ``numerics`` and Eq. 2.6 are
+both generated from the expressions built here.
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+import sympy as sp
+
+from ._effects import FULL, Effects
+from ._parameters import PAPER, ContactParameters
+from ._symbols import PARAMETER_SYMBOLS, P_a, M, S, c_n, f_e, g, h_n, l, m2, t, v, y
+
+__all__ = ["ContactModel", "exact_number"]
+
+
+def exact_number(value: float) -> sp.Expr:
+    """A sympy number for a parameter value: exact for integer and decimal exponents."""
+    rational = sp.Rational(repr(float(value)))
+    return sp.Integer(rational) if rational.q == 1 else rational
+
+
+class ContactModel:
+    """The slider on a rough contact, with switchable effects (Eq. 2.1-2.4).
+
+    Parameters
+    ----------
+    parameters : ContactParameters
+        Values of S, c_n, m2, h_n, l, M, g (the paper's by default).
+    effects : Effects
+        Which laws and effects the model includes (all of the paper's by default).
+
+    Examples
+    --------
+    >>> model = ContactModel()
+    >>> model.static_deflection
+    (M*g/(S*c_n))**(1/m2)
+    >>> round(model.numeric(model.static_deflection) * 1e9, 1)  # nm
+    225.2
+    """
+
+    def __init__(
+        self, parameters: ContactParameters = PAPER, effects: Effects = FULL
+    ) -> None:
+        if not isinstance(parameters, ContactParameters):
+            raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
+        if not isinstance(effects, Effects):
+            raise ValueError(f"`effects` must be Effects, got {effects!r}.")
+        self.parameters = parameters
+        self.effects = effects
+        if not effects.contact_loss and not self._law_is_polynomial():
+            raise ValueError(
+                "`effects.contact_loss=False` continues the contact law for y < 0, "
+                "which needs a polynomial law: use spring='taylor' or 'linear' and "
+                "damping='linear', or integer exponents; got "
+                f"m2={parameters.m2!r}, l={parameters.l!r}, effects={effects!r}."
+            )
+
+    def _law_is_polynomial(self) -> bool:
+        spring_ok = self.effects.spring != "power" or float(self.parameters.m2).is_integer()
+        damping_ok = self.effects.damping != "power" or float(self.parameters.l).is_integer()
+        return spring_ok and damping_ok
+
+    # -- parameter values -------------------------------------------------
+    @cached_property
+    def values(self) -> dict[sp.Symbol, sp.Expr]:
+        """Substitution of the parameter symbols by the parameter values."""
+        return {
+            PARAMETER_SYMBOLS[name]: exact_number(value) if name in ("m2", "l") else sp.Float(value, 17)
+            for name, value in self.parameters.as_dict().items()
+        }
+
+    def numeric(self, expr: sp.Expr) -> float:
+        """Evaluate an expression of the parameter symbols at the parameter values."""
+        return float(sp.N(sp.sympify(expr).subs(self.values), 17))
+
+    # -- Eq. 2.1: the contact laws ----------------------------------------
+    @cached_property
+    def static_deflection(self) -> sp.Expr:
+        """y0 = delta0, where the spring carries the weight: S c_n y0^m2 = M g."""
+        (root,) = sp.solve(sp.Eq(S * c_n * y**m2, M * g), y)
+        return root
+
+    @staticmethod
+    def power_spring(deflection: sp.Expr) -> sp.Expr:
+        """F_s = -S c_n delta^m2 (Eq. 2.1)."""
+        return -S * c_n * deflection**m2
+
+    @staticmethod
+    def power_damping(deflection: sp.Expr, velocity: sp.Expr) -> sp.Expr:
+        """F_d = -S h_n delta^l ydot (Eq. 2.1)."""
+        return -S * h_n * deflection**l * velocity
+
+    def spring_law(self, deflection: sp.Expr) -> sp.Expr:
+        """The spring force in contact, for the chosen spring law (Eq. 2.1, 2.5)."""
+        if self.effects.spring == "power":
+            return self.power_spring(deflection)
+        degree = 1 if self.effects.spring == "linear" else self.effects.taylor_degree
+        return self.taylor_polynomial(self.power_spring, degree).subs(y, deflection)
+
+    def taylor_polynomial(self, law, degree: int) -> sp.Expr:
+        """Taylor polynomial of ``law(y)`` about y0, in y, to ``degree`` (Eq. 2.5)."""
+        y0 = self.static_deflection
+        return sum(
+            sp.simplify(sp.diff(law(y), y, k).subs(y, y0) / sp.factorial(k)) * (y - y0) ** k
+            for k in range(degree + 1)
+        )
+
+    def damping_law(self, deflection: sp.Expr, velocity: sp.Expr) -> sp.Expr:
+        """The damping force in contact: full, or linearised at y0 (Eq. 2.5)."""
+        if self.effects.damping == "power":
+            return self.power_damping(deflection, velocity)
+        return self.power_damping(self.static_deflection, velocity)
+
+    def contact_force(self, *, safe_powers: bool = False) -> sp.Expr:
+        """The reaction R = F_s + F_d, gated at y = 0 when contact can be lost.
+
+        With ``safe_powers`` the deflection in the contact branch is written as
+        max(y, 0), so that compiled code never raises a negative number to a
+        fractional power, even where it evaluates both branches.
+        """
+        law = lambda d: self.spring_law(d) + self.damping_law(d, v)  # noqa: E731
+        if not self.effects.contact_loss:
+            return law(y)
+        deflection = sp.Max(y, 0) if safe_powers else y
+        return sp.Piecewise((law(deflection), y > 0), (0, True))
+
+    # -- Eq. 2.2-2.4 --------------------------------------------------------
+    @property
+    def gravity_force(self) -> sp.Expr:
+        """Q = M g (Eq. 2.2), or 0 when gravity is switched off."""
+        return M * g if self.effects.gravity else sp.Integer(0)
+
+    @property
+    def drive(self) -> sp.Expr:
+        """P = P_a cos(2 pi f_e t) (Eq. 2.2)."""
+        return P_a * sp.cos(2 * sp.pi * f_e * t)
+
+    def acceleration(self, force: sp.Expr | None = None, *, safe_powers: bool = False) -> sp.Expr:
+        """ydot-dot = (F_k + F_d + P) / M (Eq. 2.3, 2.4).
+
+        ``force`` replaces the drive P (the simulator tabulates it).
+        """
+        drive = self.drive if force is None else force
+        return (self.contact_force(safe_powers=safe_powers) + self.gravity_force + drive) / M
+
+    def numeric_acceleration(self, force: sp.Expr, *, safe_powers: bool = True) -> sp.Expr:
+        """The acceleration with every parameter replaced by its value."""
+        return self.acceleration(force, safe_powers=safe_powers).subs(self.values)
+
+    def __repr__(self) -> str:
+        return f"ContactModel({self.parameters!r}, {self.effects.label()})"

@@ -1,0 +1,107 @@
+"""The paper's numbers, in one place.
+
+Every value that the paper states (Section 2 and the figure captions) is
+defined here and nowhere else; the rest of the toolkit imports it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields
+
+__all__ = [
+    "ContactParameters",
+    "PAPER",
+    "PAPER_F_N0_HZ",
+    "PAPER_PANEL_FRACTIONS",
+    "PAPER_BAND_HZ",
+    "check_positive",
+]
+
+
+def check_positive(name: str, value: float, *, allow_zero: bool = False) -> float:
+    """Return ``float(value)``, or raise a ValueError that names the argument."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"`{name}` must be a real number, got {value!r}.") from None
+    if not math.isfinite(number):
+        raise ValueError(f"`{name}` must be finite, got {value!r}.")
+    if number < 0 or (number == 0 and not allow_zero):
+        bound = ">= 0" if allow_zero else "> 0"
+        raise ValueError(f"`{name}` must be {bound}, got {value!r}.")
+    return number
+
+
+@dataclass(frozen=True)
+class ContactParameters:
+    """Physical parameters of the slider on its rough contact (Eq. 2.1, 2.2).
+
+    Parameters
+    ----------
+    S : float
+        Nominal contact area [m^2].
+    c_n : float
+        Contact stiffness coefficient [N/m^(m2+2)].
+    m2 : float
+        Exponent of the spring law, ``F_s = -S c_n y^m2``; at least 1.
+    h_n : float
+        Contact damping coefficient [N s/m^(l+3)].
+    l : float
+        Exponent of the damping law, ``F_d = -S h_n y^l ydot``; at least 0.
+    M : float
+        Mass of the slider [kg].
+    g : float
+        Acceleration of gravity [m/s^2].
+
+    Examples
+    --------
+    >>> ContactParameters(M=0.5).M
+    0.5
+    >>> ContactParameters(m2=0.5)
+    Traceback (most recent call last):
+    ...
+    ValueError: `m2` must be >= 1, got 0.5.
+    """
+
+    S: float = 0.0009
+    c_n: float = 4.52693e16
+    m2: float = 2.0
+    h_n: float = 3.5e11
+    l: float = 1.0
+    M: float = 0.2106
+    g: float = 9.81
+
+    def __post_init__(self) -> None:
+        for name in ("S", "c_n", "h_n", "M", "g"):
+            object.__setattr__(self, name, check_positive(name, getattr(self, name)))
+        m2 = check_positive("m2", self.m2)
+        if m2 < 1:
+            raise ValueError(f"`m2` must be >= 1, got {self.m2!r}.")
+        object.__setattr__(self, "m2", m2)
+        object.__setattr__(self, "l", check_positive("l", self.l, allow_zero=True))
+
+    @property
+    def weight_n(self) -> float:
+        """The slider's weight Q = M g [N] (Eq. 2.2)."""
+        return self.M * self.g
+
+    def as_dict(self) -> dict[str, float]:
+        return asdict(self)
+
+    @classmethod
+    def names(cls) -> tuple[str, ...]:
+        return tuple(f.name for f in fields(cls))
+
+
+#: The parameter values adopted in the paper (Section 2).
+PAPER = ContactParameters()
+
+#: The natural frequency the paper reports (Section 3) [Hz].
+PAPER_F_N0_HZ = 1485.0
+
+#: Force amplitudes of Fig. 2 and 3, panels a..j, as fractions of Q.
+PAPER_PANEL_FRACTIONS = (0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.35, 0.40, 0.45, 0.50)
+
+#: The frequency band of Fig. 2 and 3 [Hz].
+PAPER_BAND_HZ = (250.0, 1800.0)

@@ -152,4 +152,7 @@ class ContactModel:
         return self.acceleration(force, safe_powers=safe_powers).subs(self.values)
 
     def __repr__(self) -> str:
-        return f"ContactModel({self.parameters!r}, {self.effects.label()})"
+        from ._parameters import PAPER
+
+        values = "paper values" if self.parameters == PAPER else repr(self.parameters)
+        return f"ContactModel({values}; {self.effects.label()})"

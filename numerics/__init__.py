@@ -1,0 +1,20 @@
+"""numerics: a compiled, batched RK4 of the contact model and what is built on it.
+
+The right-hand side is generated from ``perturb.ContactModel`` for the effects a
+scene asks for; see ``simulate``.
+"""
+
+from ._codegen import acceleration_source, compiled_kernels
+from ._result import Simulation
+from ._simulate import drive_table, simulate, static_deflection
+from ._validate import RECORDABLE
+
+__all__ = [
+    "RECORDABLE",
+    "Simulation",
+    "acceleration_source",
+    "compiled_kernels",
+    "drive_table",
+    "simulate",
+    "static_deflection",
+]

@@ -1,0 +1,162 @@
+"""The batched RK4 kernels, as a template.
+
+``numerics._codegen`` appends this file's text to a generated
+``acceleration(y, v, force)`` (Eq. 2.4 for the chosen effects, lambdified
+from ``perturb``) and compiles the result with numba; so this file is never
+imported on its own, and ``acceleration`` is defined by the generated part.
+
+Integration is in phase: a lane with excitation frequency f_e takes N steps
+of dt = 1 / (N f_e) per period, so that every lane sits at the same phase of
+the drive after every step, and the drive cos(2 pi k / 2N) is read from one
+table shared by all lanes. The lane loop is innermost, with no branch on the
+hot path, so that the compiler can run several lanes per SIMD instruction.
+"""
+
+import math
+
+import numba
+import numpy as np
+
+# fmt: off
+# The classical RK4 tableau (Kutta 1901), stated as data; `rk4_step` below is
+# its unrolled form and tests/test_rk4.py checks the two agree.
+RK4_C = (0.0, 0.5, 0.5, 1.0)
+RK4_A = ((), (0.5,), (0.0, 0.5), (0.0, 0.0, 1.0))
+RK4_B = (1 / 6, 1 / 3, 1 / 3, 1 / 6)
+# fmt: on
+
+
+@numba.njit(cache=True, inline="always")
+def rk4_step(y, v, dt, force_start, force_mid, force_end):
+    """One classical RK4 step of y' = v, v' = acceleration(y, v, force)."""
+    a1 = acceleration(y, v, force_start)  # noqa: F821 (generated)
+    v2 = v + 0.5 * dt * a1
+    a2 = acceleration(y + 0.5 * dt * v, v2, force_mid)  # noqa: F821
+    v3 = v + 0.5 * dt * a2
+    a3 = acceleration(y + 0.5 * dt * v2, v3, force_mid)  # noqa: F821
+    v4 = v + dt * a3
+    a4 = acceleration(y + dt * v3, v4, force_end)  # noqa: F821
+    y_next = y + dt / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
+    v_next = v + dt / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
+    return y_next, v_next
+
+
+@numba.njit(cache=True)
+def advance_step(y, v, dt, p_a, drive, k):
+    """Advance every lane by step k of the period (drive: cos table, 2N + 1 long)."""
+    c0 = drive[2 * k]
+    ch = drive[2 * k + 1]
+    c1 = drive[2 * k + 2]
+    for lane in range(y.shape[0]):
+        y[lane], v[lane] = rk4_step(
+            y[lane], v[lane], dt[lane], p_a[lane] * c0, p_a[lane] * ch, p_a[lane] * c1
+        )
+
+
+@numba.njit(cache=True)
+def mark_failed(y, v, failed_period, period):
+    """Record the first period in which a lane's state became non-finite."""
+    for lane in range(y.shape[0]):
+        if failed_period[lane] < 0 and not (math.isfinite(y[lane]) and math.isfinite(v[lane])):
+            failed_period[lane] = period
+
+
+@numba.njit(cache=True)
+def advance_periods(y, v, dt, p_a, drive, periods, failed_period):
+    """Advance every lane by whole periods, recording nothing (the hot path)."""
+    steps = (drive.shape[0] - 1) // 2
+    for period in range(periods):
+        for k in range(steps):
+            advance_step(y, v, dt, p_a, drive, k)
+        mark_failed(y, v, failed_period, period)
+
+
+@numba.njit(cache=True, inline="always")
+def hermite_extremum(y0, v0, y1, v1, dt):
+    """The extremum of the cubic Hermite interpolant on a step where v changes sign.
+
+    y(s) on s in [0, 1] matches y and dt*v at both ends; its derivative is a
+    quadratic whose root in [0, 1] is the extremum. Returns (fraction, value).
+    """
+    d0 = dt * v0
+    d1 = dt * v1
+    # y'(s) = d0 + 2 p s + 3 q s^2 with the Hermite coefficients below.
+    p = 3.0 * (y1 - y0) - 2.0 * d0 - d1
+    q = -2.0 * (y1 - y0) + d0 + d1
+    a = 3.0 * q
+    b = 2.0 * p
+    s = 0.5
+    if a == 0.0:
+        s = -d0 / b if b != 0.0 else 0.5
+    else:
+        disc = max(b * b - 4.0 * a * d0, 0.0)
+        root = math.sqrt(disc)
+        # The numerically stable pair of roots; keep the one inside [0, 1].
+        qq = -0.5 * (b + math.copysign(root, b))
+        s1 = qq / a
+        s2 = d0 / qq if qq != 0.0 else s1
+        s = s1 if 0.0 <= s1 <= 1.0 else s2
+    s = min(max(s, 0.0), 1.0)
+    value = y0 + s * (d0 + s * (p + s * q))
+    return s, value
+
+
+@numba.njit(cache=True)
+def record_periods(
+    y, v, dt, p_a, drive, periods, failed_period, first_period,
+    ymin, ymax, ext_value, ext_phase, ext_kind, ext_count, history_y, history_v,
+):
+    """Advance by whole periods while recording the observables asked for.
+
+    ymin, ymax : min and max of y over these periods (extrema refined by Hermite).
+    ext_value, ext_phase, ext_kind, ext_count : every local extremum: its value
+        [m], its phase in periods since the recording began, +1 for a maximum
+        and -1 for a minimum, and the count per lane; width 0 when not asked for.
+    history_y, history_v : y and v after every step; width 0 when not asked for.
+    """
+    steps = (drive.shape[0] - 1) // 2
+    lanes = y.shape[0]
+    capacity = ext_value.shape[1]
+    keep_history = history_y.shape[1] > 0
+    for lane in range(lanes):
+        ymin[lane] = y[lane]
+        ymax[lane] = y[lane]
+        ext_count[lane] = 0
+    for period in range(periods):
+        for k in range(steps):
+            c0 = drive[2 * k]
+            ch = drive[2 * k + 1]
+            c1 = drive[2 * k + 2]
+            for lane in range(lanes):
+                y0 = y[lane]
+                v0 = v[lane]
+                pa = p_a[lane]
+                y1, v1 = rk4_step(y0, v0, dt[lane], pa * c0, pa * ch, pa * c1)
+                y[lane] = y1
+                v[lane] = v1
+                ymin[lane] = min(ymin[lane], y1)
+                ymax[lane] = max(ymax[lane], y1)
+                if keep_history:
+                    history_y[lane, period * steps + k] = y1
+                    history_v[lane, period * steps + k] = v1
+                # A local extremum lies where v changes sign within the step.
+                if (v0 > 0.0 and v1 <= 0.0) or (v0 < 0.0 and v1 >= 0.0):
+                    s, value = hermite_extremum(y0, v0, y1, v1, dt[lane])
+                    ymin[lane] = min(ymin[lane], value)
+                    ymax[lane] = max(ymax[lane], value)
+                    n = ext_count[lane]
+                    if n < capacity:
+                        ext_value[lane, n] = value
+                        ext_phase[lane, n] = period + (k + s) / steps
+                        ext_kind[lane, n] = 1 if v0 > 0.0 else -1
+                    ext_count[lane] = n + 1
+        mark_failed(y, v, failed_period, first_period + period)
+
+
+@numba.njit(cache=True)
+def acceleration_batch(y, v, force):
+    """The generated acceleration at many states (for tests and plots)."""
+    out = np.empty(y.shape[0])
+    for i in range(y.shape[0]):
+        out[i] = acceleration(y[i], v[i], force[i])  # noqa: F821
+    return out

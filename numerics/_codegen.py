@@ -47,7 +47,11 @@ def acceleration_source(model: ContactModel) -> str:
     expr = model.numeric_acceleration(_FORCE, safe_powers=True)
     function = sp.lambdify((symbols.y, symbols.v, _FORCE), expr, modules="math", cse=True)
     body = inspect.getsource(function).replace(function.__name__, "acceleration", 1)
-    header = f"# Eq. 2.4 for {model!r}\n@numba.njit(cache=True, inline='always')\n"
+    # lambdify's "math" namespace: its source names math functions unqualified.
+    header = (
+        "from math import *  # noqa: F403\n\n\n"
+        f"# Eq. 2.4 for {model!r}\n@numba.njit(cache=True, inline='always')\n"
+    )
     return header + body
 
 

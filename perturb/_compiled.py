@@ -1,0 +1,163 @@
+"""The derived series as fast numeric formulas (``lambdify`` with ``cse=True``).
+
+Each harmonic is carried as a complex amplitude ``z_n_k = A_n_k exp(i phi_n_k)``
+in the frame where u0 has phase 0 (``z_0_1 = A0``): every phi_n_k is k phi0 plus
+a part that does not depend on phi0, and b_n does not depend on phi0 at all.
+The chain of closed forms (right side, b_n, transfer) is composed without
+expanding, and ``lambdify(..., cse=True)`` shares the common parts.
+
+Examples
+--------
+>>> import numpy as np
+>>> formulas = compile_series(2)
+>>> formulas.arguments
+('A0', 'omega', 'Omega', 'c', 'h')
+>>> b2 = formulas.b(1e-7, 9000.0, 4000.0, 100.0, 2e14)
+>>> float(np.round(b2[0], 3))
+-16599679.205
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Callable
+
+import numpy as np
+import sympy as sp
+
+from . import _series_symbols as sym
+from ._lindstedt import Series, derive, transfer
+
+__all__ = ["compile_series", "CompiledSeries", "complex_chain"]
+
+#: The arguments of every compiled formula, in order.
+A0 = sp.Symbol("A0", positive=True)
+ARGUMENTS = (A0, sym.omega, sym.Omega, sym.c, sym.h)
+
+
+def complex_chain(series: Series) -> list[tuple[sp.Symbol, sp.Expr]]:
+    """The closed forms as ordered assignments ``symbol = expression``.
+
+    Each expression uses the arguments and the symbols assigned before it:
+    b_n, A_n_0 (means, real), z_n_k (harmonics) and the conjugates zc_n_k,
+    which are not assigned here (the evaluator conjugates z_n_k).
+    """
+    chain: list[tuple[sp.Symbol, sp.Expr]] = []
+    for n in range(1, series.order + 1):
+        equation = series.equations[n]
+        if equation.has_b:
+            # Eq. 2.10 / A.2: b_n A0^2 = -Re(sum of other fundamental terms * conj(z0)).
+            total = sp.Add(*(t.value() + t.value(True) for t in equation.b_sources))
+            chain.append((sym.b(n), (-total / (2 * A0)).xreplace(_FRAME)))
+        for k, terms in equation.rhs.items():
+            value = sp.Add(*(t.value() for t in terms)).xreplace(_FRAME)
+            if k == 0:
+                # The mean: omega^2 A_n_0 = F_n_0 (Eq. 2.9, A.1).
+                conjugate = sp.Add(*(t.value(True) for t in terms)).xreplace(_FRAME)
+                chain.append((sym.amplitude(n, 0), (value + conjugate) / (2 * sym.omega**2)))
+            else:
+                chain.append((sym.complex_amplitude(n, k), value * transfer(k)))
+    return chain
+
+
+# Eq. 2.8 in the frame of u0: z_0_1 = conj(z_0_1) = A_0_1 = A0.
+_FRAME = {
+    sym.complex_amplitude(0, 1): A0,
+    sym.complex_amplitude(0, 1, True): A0,
+    sym.amplitude(0, 1): A0,
+}
+
+
+@dataclass(frozen=True)
+class _Step:
+    """One lambdified assignment of the chain."""
+
+    name: str
+    kind: str  # "b", "mean" or "harmonic"
+    inputs: tuple[str, ...]
+    function: Callable
+
+
+def _compile_step(symbol: sp.Symbol, expr: sp.Expr) -> _Step:
+    inputs = tuple(sorted((s for s in expr.free_symbols), key=str))
+    name = str(symbol)
+    kind = "b" if name.startswith("b_") else ("mean" if name.startswith("A_") else "harmonic")
+    function = sp.lambdify(inputs, expr, modules="numpy", cse=True)
+    return _Step(name, kind, tuple(str(s) for s in inputs), function)
+
+
+@dataclass(frozen=True)
+class CompiledSeries:
+    """Lambdified formulas of a series; arguments ``(A0, omega, Omega, c, h)``.
+
+    Every formula of the chain (b_n, means, complex harmonics) is lambdified on
+    its own with ``cse=True`` and evaluated in order, so that nothing is
+    expanded or computed twice.
+
+    Attributes
+    ----------
+    order : int
+    b_orders : tuple of int
+        The n of the non-zero b_n, in the order ``b`` returns them.
+    keys : tuple of (int, int)
+        The (n, k) of the harmonics that ``amplitudes`` returns, in order.
+    """
+
+    order: int
+    b_orders: tuple[int, ...]
+    keys: tuple[tuple[int, int], ...]
+    steps: tuple[_Step, ...]
+    arguments: tuple[str, ...] = tuple(str(a) for a in ARGUMENTS)
+
+    def evaluate(self, A0, omega, Omega, c, h, *, until: str | None = None) -> dict:
+        """Run the chain; return every assigned value by name (z_n_k complex)."""
+        env = dict(zip(self.arguments, np.broadcast_arrays(*map(np.asarray, (A0, omega, Omega, c, h)))))
+        env["z_0_1"] = env["zc_0_1"] = env["A_0_1"] = env["A0"]
+        for step in self.steps:
+            value = step.function(*(env[name] for name in step.inputs))
+            if step.kind == "harmonic":
+                env[step.name] = value
+                env["zc" + step.name[1:]] = np.conj(value)
+            else:
+                env[step.name] = np.real(value)
+            if step.name == until:
+                break
+        return env
+
+    def b(self, A0, omega, Omega, c, h) -> list[np.ndarray]:
+        """The non-zero b_n (real), one per entry of ``b_orders``."""
+        if not self.b_orders:
+            return []
+        env = self.evaluate(A0, omega, Omega, c, h, until=f"b_{self.b_orders[-1]}")
+        return [env[f"b_{n}"] for n in self.b_orders]
+
+    def frequency_shift(self, A0, omega, Omega, c, h) -> np.ndarray:
+        """sum_n b_n = omega^2 - omega0^2 (Eq. 2.7)."""
+        values = self.b(A0, omega, Omega, c, h)
+        return sum(values) if values else np.zeros(np.broadcast(A0, omega, Omega, c, h).shape)
+
+    def amplitudes(self, A0, omega, Omega, c, h) -> list[np.ndarray]:
+        """Complex z_n_k (real for means), one per entry of ``keys``, with phi0 = 0."""
+        env = self.evaluate(A0, omega, Omega, c, h)
+        return [env[f"A_{n}_0"] if k == 0 else env[f"z_{n}_{k}"] for n, k in self.keys]
+
+
+@lru_cache(maxsize=None)
+def compile_series(order: int) -> CompiledSeries:
+    """Compile b_n and the complex amplitudes of the order-N series (cached).
+
+    Parameters
+    ----------
+    order : int
+        The order N >= 0 of the series.
+
+    Returns
+    -------
+    CompiledSeries
+    """
+    series = derive(order)
+    steps = tuple(_compile_step(symbol, expr) for symbol, expr in complex_chain(series))
+    b_orders = tuple(n for n in range(1, series.order + 1) if series.has_b(n))
+    keys = tuple((n, k) for n in range(series.order + 1) for k in series.harmonics(n))
+    return CompiledSeries(series.order, b_orders, keys, steps)

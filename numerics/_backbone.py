@@ -1,0 +1,275 @@
+"""The exact backbone: frequency of free, undamped oscillation against amplitude.
+
+For the conservative part of Eq. 2.4 (no damping, no drive) every motion is
+periodic, and its period is the integral over the energy level
+
+    T = 2 * integral dy / sqrt(2 (E - V(y)) / M)   between the turning points.
+
+In the scaled variables of ``_restoring`` (sigma = y / y0 - 1, time in units
+of sqrt(y0 / g)) the potential about the equilibrium is D(sigma), with
+D' = r. Two turning points s- < 0 < s+ share the level, D(s-) = D(s+), and
+
+    E - D(s) = (s+ - s)(s - s-) D[s-, s+, s],
+
+where D[., ., .] is the second divided difference of D. With
+s = c + r sin(theta) the inverse-square-root singularities cancel exactly:
+
+    T = 2 * integral_{-pi/2}^{pi/2} dtheta / sqrt(2 D[s-, s+, s(theta)]).
+
+Divided differences of D are means of r over segments, evaluated by
+Gauss-Legendre quadrature of the cancellation-free r; nothing subtracts two
+nearly equal energies, so the result holds down to tiny amplitudes. Once the
+upper turning point y_min reaches y = 0 (s- = -1), the slider bounces: the
+contact part of the period is integrated with s = s+ - (s+ + 1) w^2, which
+removes the one remaining singularity, and the free flight under gravity is a
+parabola, in closed form.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import brentq
+
+from perturb import ContactModel
+
+from . import _chebyshev as cheb
+from ._restoring import Restoring, restoring_force
+
+__all__ = ["Backbone", "exact_backbone", "contact_loss_compression"]
+
+# Gauss-Legendre rule on [0, 1] for the means of r over segments.
+_GAUSS_T, _GAUSS_W = np.polynomial.legendre.leggauss(16)
+_GAUSS_T, _GAUSS_W = (_GAUSS_T + 1) / 2, _GAUSS_W / 2
+
+
+@dataclass
+class Backbone:
+    """Frequency of free oscillation of the conservative model against amplitude.
+
+    Attributes
+    ----------
+    u_max_m : ndarray, shape (points,)
+        Largest compression beyond the static deflection, y_max - y0 [m]; the
+        energy level.
+    ymin_m, ymax_m : ndarray, shape (points,)
+        Turning points of y [m]; y_min < 0 while the slider is in flight.
+    app_m : ndarray, shape (points,)
+        Peak-to-peak amplitude A_pp = y_max - y_min [m] (Section 3).
+    a1_m : ndarray, shape (points,)
+        Amplitude of the fundamental harmonic of y(t) [m].
+    frequency_hz : ndarray, shape (points,)
+        Frequency of the free oscillation [Hz].
+    contact_lost : ndarray of bool, shape (points,)
+        Whether the slider leaves the slideway (y_min < 0).
+    y0_m, f_n0_hz : float
+        Static deflection and the small-amplitude limit of the frequency.
+    contact_loss_app_m : float
+        A_pp at which contact is first lost (y_min = 0).
+    model : str
+        The model the backbone belongs to.
+    nodes : int
+        Chebyshev-Lobatto nodes per period integral.
+    """
+
+    u_max_m: np.ndarray
+    ymin_m: np.ndarray
+    ymax_m: np.ndarray
+    app_m: np.ndarray
+    a1_m: np.ndarray
+    frequency_hz: np.ndarray
+    contact_lost: np.ndarray
+    y0_m: float
+    f_n0_hz: float
+    contact_loss_app_m: float
+    model: str
+    nodes: int
+    elapsed_s: float = field(default=0.0, compare=False)
+
+    def as_json(self) -> dict:
+        """The keys of `python -m numerics backbone --json`."""
+        return {
+            "app_m": self.app_m.tolist(),
+            "a1_m": self.a1_m.tolist(),
+            "frequency_hz": self.frequency_hz.tolist(),
+            "contact_lost": self.contact_lost.tolist(),
+            "ymin_m": self.ymin_m.tolist(),
+            "ymax_m": self.ymax_m.tolist(),
+        }
+
+    def __str__(self) -> str:
+        return (
+            f"Backbone: {self.app_m.size} points, A_pp {self.app_m.min():.3g}..."
+            f"{self.app_m.max():.3g} m, f {self.frequency_hz.min():.6g}..."
+            f"{self.frequency_hz.max():.6g} Hz, contact lost above A_pp = "
+            f"{self.contact_loss_app_m:.4g} m, {self.elapsed_s:.3g} s [{self.model}]"
+        )
+
+
+def _gauss_mean(r: Restoring, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Mean of r over [a, b] by Gauss-Legendre; r must be smooth on the segment."""
+    return r(a[..., None] + _GAUSS_T * (b - a)[..., None]) @ _GAUSS_W
+
+
+def _mean_force(r: Restoring, a, b) -> np.ndarray:
+    """D[a, b]: the mean of r over the segment [a, b] (a first divided difference of D).
+
+    A segment across the contact edge sigma = -1 is split there, so that each
+    part is smooth and the quadrature stays exact to rounding.
+    """
+    a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+    edge = np.clip(-1.0, np.minimum(a, b), np.maximum(a, b))
+    length = b - a
+    share = np.divide(edge - a, length, out=np.zeros_like(length), where=length != 0)
+    return share * _gauss_mean(r, a, edge) + (1 - share) * _gauss_mean(r, edge, b)
+
+
+def _second_difference(r: Restoring, lower, upper, s) -> np.ndarray:
+    """D[s-, s+, s] = (D[s-, s] - D[s+, s]) / (s- - s+), positive inside the well."""
+    return (_mean_force(r, lower, s) - _mean_force(r, upper, s)) / (lower - upper)
+
+
+def contact_loss_compression(r: Restoring) -> float:
+    """s+ at which the other turning point reaches the contact edge, s- = -1.
+
+    It solves D(s+) = D(-1), written as D[-1, s+] = 0 (the mean of r over
+    [-1, s+] vanishes), for s+ > 0.
+    """
+    upper = 1.0
+    while _mean_force(r, -1.0, upper) <= 0:
+        upper *= 2
+    return brentq(lambda s: float(_mean_force(r, -1.0, s)), 1e-12, upper, xtol=1e-16, rtol=1e-15)
+
+
+def _lower_turning_point(r: Restoring, upper: np.ndarray) -> np.ndarray:
+    """s- in [-1, 0) with D(s-) = D(s+), i.e. D[s-, s+] = 0, by bisection."""
+    lo, hi = np.full_like(upper, -1.0), np.zeros_like(upper)
+    for _ in range(200):
+        mid = (lo + hi) / 2
+        # D[mid, s+] > 0 means D(mid) < D(s+): the root lies below mid.
+        above = _mean_force(r, mid, upper) > 0
+        hi, lo = np.where(above, mid, hi), np.where(above, lo, mid)
+        if np.all(hi - lo <= 4 * np.finfo(float).eps * np.abs(hi)):
+            break
+    return (lo + hi) / 2
+
+
+def _fundamental(s, t, weight, half_period) -> np.ndarray:
+    """(4/T) * integral over a half period of s cos(omega t) dt, per row."""
+    omega = np.pi / half_period[:, None]
+    return 4 / (2 * half_period) * cheb.integral(s * np.cos(omega * t) * weight)
+
+
+def _arc(r: Restoring, lower, upper, theta_from, nodes: int) -> tuple[np.ndarray, ...]:
+    """The motion from s+ down to s = c + h sin(theta_from), with c, h of [s-, s+].
+
+    Returns s, the time since s+ and dt/dx at the nodes, and the time of the arc.
+    """
+    x = cheb.lobatto_points(nodes)
+    c, h = ((upper + lower) / 2)[:, None], ((upper - lower) / 2)[:, None]
+    # theta runs from theta_from (x = -1) to pi/2 (x = 1, the turning point s+).
+    span = (np.pi / 2 - theta_from)[:, None] / 2
+    s = c + h * np.sin(theta_from[:, None] + span * (x + 1))
+    # dt/dtheta = 1 / sqrt(2 D[s-, s+, s]): E - D(s) = (s+ - s)(s - s-) D[s-, s+, s].
+    rate = span / np.sqrt(2 * _second_difference(r, lower[:, None], upper[:, None], s))
+    duration = cheb.integral(rate)
+    return s, duration[:, None] - cheb.cumulative_integral(rate), rate, duration
+
+
+def _in_contact(r: Restoring, upper: np.ndarray, nodes: int) -> tuple[np.ndarray, ...]:
+    """Half period, fundamental and s- for levels that keep contact (s- >= -1)."""
+    lower = _lower_turning_point(r, upper)
+    s, elapsed, rate, half_period = _arc(r, lower, upper, np.full_like(upper, -np.pi / 2), nodes)
+    return half_period, _fundamental(s, elapsed, rate, half_period), lower
+
+
+def _bouncing(r: Restoring, upper: np.ndarray, nodes: int) -> tuple[np.ndarray, ...]:
+    """Half period, fundamental and s- for levels where the slider flies (s- < -1)."""
+    # The slider leaves the edge at speed v0 and flies under its weight: sigma'' = 1.
+    v0 = np.sqrt(2 * (upper + 1) * _mean_force(r, -1.0, upper))
+    lower = -1 - v0**2 / 2
+    edge = np.arcsin(np.clip((-1 - (upper + lower) / 2) / ((upper - lower) / 2), -1, 1))
+    s, elapsed, rate, contact_time = _arc(r, lower, upper, edge, nodes)
+    # Free flight from the edge up to s- and back: a parabola in closed form.
+    tau = v0[:, None] * (cheb.lobatto_points(nodes) + 1) / 2  # time since leaving the edge
+    s_flight = -1 - v0[:, None] * tau + tau**2 / 2
+    half_period = contact_time + v0
+    first = _fundamental(s, elapsed, rate, half_period)
+    flight_rate = np.broadcast_to(v0[:, None] / 2, tau.shape)  # dt/dx
+    second = _fundamental(s_flight, contact_time[:, None] + tau, flight_rate, half_period)
+    return half_period, first + second, lower
+
+
+def _default_compressions(y0: float, points: int) -> np.ndarray:
+    """u_max from 1e-6 y0 to 3 y0: linear vibrations up to bouncing of about 20 y0."""
+    return y0 * np.geomspace(1e-6, 3.0, points)
+
+
+def _check_compressions(u_max_m) -> np.ndarray:
+    u = np.atleast_1d(np.asarray(u_max_m, dtype=float))
+    if u.ndim != 1 or u.size == 0 or not np.all(np.isfinite(u) & (u > 0)):
+        raise ValueError(f"`u_max_m` must be a non-empty 1-d array of finite values > 0, got {u_max_m!r}.")
+    return u
+
+
+def exact_backbone(
+    u_max_m=None, *, model: ContactModel | None = None, points: int = 200, nodes: int = 48
+) -> Backbone:
+    """Frequency of the free, undamped oscillation against its amplitude.
+
+    Parameters
+    ----------
+    u_max_m : array_like, shape (points,), optional
+        Energy levels, given as the largest compression beyond the static
+        deflection, y_max - y0 [m] (> 0). By default ``points`` values,
+        log-spaced from 1e-6 y0 to 3 y0.
+    model : ContactModel, optional
+        The model (power-law spring with gravity and contact loss; damping
+        is dropped). The paper's by default.
+    points : int
+        Number of default levels (ignored when ``u_max_m`` is given).
+    nodes : int
+        Chebyshev-Lobatto intervals per period integral, at least 8.
+
+    Returns
+    -------
+    Backbone
+
+    Examples
+    --------
+    >>> b = exact_backbone([1e-12, 1e-7, 1e-6])  # u_max = y_max - y0 [m]
+    >>> [f"{f:.2f}" for f in b.frequency_hz]
+    ['1485.59', '1447.93', '311.92']
+    >>> [f"{a * 1e9:.1f}" for a in b.app_m], b.contact_lost.tolist()
+    (['0.0', '217.9', '12089.4'], [False, False, True])
+    >>> f"{b.contact_loss_app_m * 1e9:.1f} nm"  # sqrt(3) y0 for m2 = 2
+    '390.0 nm'
+    """
+    start = time.perf_counter()
+    model = ContactModel() if model is None else model
+    if isinstance(points, bool) or int(points) != points or points < 1:
+        raise ValueError(f"`points` must be an integer >= 1, got {points!r}.")
+    if isinstance(nodes, bool) or int(nodes) != nodes or nodes < 8:
+        raise ValueError(f"`nodes` must be an integer >= 8, got {nodes!r}.")
+    r = restoring_force(model)
+    y0 = r.y0_m
+    u = _default_compressions(y0, int(points)) if u_max_m is None else _check_compressions(u_max_m)
+    upper = u / y0
+    loss = contact_loss_compression(r)
+    flies = upper > loss
+    half, a1, lower = (np.empty_like(upper) for _ in range(3))
+    for mask, regime in ((~flies, _in_contact), (flies, _bouncing)):
+        if mask.any():
+            half[mask], a1[mask], lower[mask] = regime(r, upper[mask], int(nodes))
+    frequency = 1 / (2 * half * r.time_unit_s)
+    (half0,), _, _ = _in_contact(r, np.array([1e-9]), 8)
+    return Backbone(
+        u_max_m=u, ymin_m=y0 * (1 + lower), ymax_m=y0 * (1 + upper),
+        app_m=y0 * (upper - lower), a1_m=y0 * np.abs(a1), frequency_hz=frequency,
+        contact_lost=flies, y0_m=y0, f_n0_hz=1 / (2 * half0 * r.time_unit_s),
+        contact_loss_app_m=y0 * (loss + 1), model=repr(model), nodes=int(nodes),
+        elapsed_s=time.perf_counter() - start,
+    )

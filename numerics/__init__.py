@@ -4,17 +4,20 @@ The right-hand side is generated from ``perturb.ContactModel`` for the effects a
 scene asks for; see ``simulate``.
 """
 
+from ._backbone import Backbone, exact_backbone
 from ._codegen import acceleration_source, compiled_kernels
 from ._result import Simulation
 from ._simulate import drive_table, simulate, static_deflection
 from ._validate import RECORDABLE
 
 __all__ = [
+    "Backbone",
     "RECORDABLE",
     "Simulation",
     "acceleration_source",
     "compiled_kernels",
     "drive_table",
+    "exact_backbone",
     "simulate",
     "static_deflection",
 ]

@@ -6,6 +6,8 @@ import argparse
 import json
 import sys
 
+from ._backbone import exact_backbone
+from ._backbone_table import format_backbone
 from ._info import format_info, model_info
 
 
@@ -23,12 +25,29 @@ def _info(args: argparse.Namespace) -> int:
     return 0
 
 
+def _backbone(args: argparse.Namespace) -> int:
+    if not args.quiet:
+        print(f"backbone: {args.points} energy levels ...", file=sys.stderr)
+    backbone = exact_backbone(points=args.points)
+    print(format_backbone(backbone))
+    _write_json(args.json, backbone.as_json())
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m numerics", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
     info = sub.add_parser("info", help="print the model's static and linear figures")
     info.add_argument("--json", metavar="FILE", help="also write them as JSON")
     info.set_defaults(run=_info)
+    backbone = sub.add_parser(
+        "backbone", help="exact frequency of free oscillation against amplitude"
+    )
+    backbone.add_argument("--points", type=int, default=200, metavar="N",
+                          help="energy levels, log-spaced (default 200)")
+    backbone.add_argument("--json", metavar="FILE", help="also write the curve as JSON")
+    backbone.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    backbone.set_defaults(run=_backbone)
     return parser
 
 

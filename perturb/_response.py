@@ -1,0 +1,318 @@
+"""The analytic frequency response of Eq. 2.6 from the compiled series.
+
+For a force amplitude P_a and an excitation frequency f_e (Omega = 2 pi f_e),
+a response of the series is a non-linear natural frequency omega with
+
+    omega^2 = omega0^2 + sum_n b_n(A0, omega, Omega),  A0 = G H_1(omega)   (Eq. 2.7, 2.8)
+
+The bent peaks have several such omega at one frequency: every root is found,
+by sampling the left minus the right side on a grid of omega (dense where a
+transfer 1/(omega^2 - k^2 Omega^2 + 2 i k c Omega) resonates, k = 1..N+1, which
+is where the superharmonic peaks at f_n0/k live) and refining each sign change
+by the Illinois method, all frequencies at once. The peak-to-peak amplitude
+App is max - min of the reconstructed u(t) = sum_n u_n(t).
+
+Each point has a validity flag: false where the response would lose contact
+(y0 + min u <= 0, Eq. 2.1) or where the last orders stop shrinking (the size
+of u_N is not below that of u_(N-2), or that of u_(N-1) not below u_(N-3):
+harmonics alternate in parity between orders, so each parity is compared with
+itself).
+
+Examples
+--------
+>>> import numpy as np
+>>> res = frequency_response(np.array([800.0, 1420.0]), pa_frac=0.05, order=6)
+>>> res.roots_per_frequency().tolist()  # 1420 Hz is on the bent primary peak
+[1, 3]
+>>> [round(float(b.app_m[-1]) * 1e9, 1) for b in res.branches]  # App [nm], 1420 Hz
+[168.0, 206.2, 302.3]
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+from ._compiled import CompiledSeries, compile_series
+from ._eq26 import Eq26
+from ._model import ContactModel
+from ._parameters import PAPER, ContactParameters, check_positive
+from ._series_symbols import check_order
+
+__all__ = ["frequency_response", "Response", "Branch", "Eq26Values", "eq26_values"]
+
+#: Offsets of the extra grid points around each resonance k Omega, in units of c.
+_RESONANCE_OFFSETS = np.array([-12.0, -6.0, -3.0, -1.5, -0.75, 0.0, 0.75, 1.5, 3.0, 6.0, 12.0])
+_CHUNK = 4096
+
+
+@dataclass(frozen=True)
+class Eq26Values:
+    """The numbers of Eq. 2.6 for one set of parameters (SI)."""
+
+    c: float
+    omega0: float
+    h: float
+    G_per_P_a: float
+    y0_m: float
+    Q_n: float
+
+
+@lru_cache(maxsize=16)
+def eq26_values(parameters: ContactParameters = PAPER) -> Eq26Values:
+    """Evaluate Eq26's coefficients once per parameter set."""
+    eq = Eq26(ContactModel(parameters))
+    coefficients, figures = eq.numeric_coefficients(), eq.numeric()
+    return Eq26Values(
+        c=coefficients["c"],
+        omega0=figures["omega0_rad_s"],
+        h=coefficients["h"],
+        G_per_P_a=coefficients["G_per_P_a"],
+        y0_m=figures["y0_m"],
+        Q_n=figures["Q_n"],
+    )
+
+
+@dataclass(frozen=True)
+class Branch:
+    """One root of the frequency equation per frequency where it exists.
+
+    Branch j holds, at each frequency with more than j roots, the root with the
+    (j+1)-th largest omega.
+    """
+
+    frequency_hz: np.ndarray
+    app_m: np.ndarray
+    a0_m: np.ndarray
+    omega_rad_s: np.ndarray
+    u_min_m: np.ndarray
+    u_max_m: np.ndarray
+    valid: np.ndarray
+
+    def as_json(self) -> dict[str, list]:
+        return {
+            "frequency_hz": self.frequency_hz.tolist(),
+            "app_m": self.app_m.tolist(),
+            "a0_m": self.a0_m.tolist(),
+            "omega_rad_s": self.omega_rad_s.tolist(),
+            "valid": [bool(v) for v in self.valid],
+        }
+
+
+@dataclass(frozen=True)
+class Response:
+    """The analytic frequency response of the order-N series at one P_a."""
+
+    order: int
+    pa_frac: float
+    frequency_hz: np.ndarray
+    branches: list[Branch] = field(default_factory=list)
+
+    def as_json(self) -> dict:
+        return {
+            "order": self.order,
+            "pa_frac": self.pa_frac,
+            "branches": [branch.as_json() for branch in self.branches],
+        }
+
+    def roots_per_frequency(self) -> np.ndarray:
+        counts = np.zeros(self.frequency_hz.shape, dtype=int)
+        for branch in self.branches:
+            counts[np.searchsorted(self.frequency_hz, branch.frequency_hz)] += 1
+        return counts
+
+    def __repr__(self) -> str:
+        n_valid = sum(int(b.valid.sum()) for b in self.branches)
+        n_points = sum(b.valid.size for b in self.branches)
+        return (
+            f"Response(order={self.order}, pa_frac={self.pa_frac}, "
+            f"{self.frequency_hz.size} frequencies, {len(self.branches)} branches, "
+            f"{n_valid}/{n_points} points valid)"
+        )
+
+
+def _residual(formulas: CompiledSeries, values: Eq26Values, G, omega, Omega):
+    """omega^2 - omega0^2 - sum b_n, with A0 = G H_1(omega) (Eq. 2.7, 2.8)."""
+    out = np.empty(np.broadcast(G, omega, Omega).shape)
+    G, omega, Omega = (np.broadcast_to(a, out.shape).ravel() for a in (G, omega, Omega))
+    flat = out.reshape(-1)
+    for start in range(0, flat.size, _CHUNK):
+        part = slice(start, start + _CHUNK)
+        w, W = omega[part], Omega[part]
+        a0 = G[part] / np.hypot(w**2 - W**2, 2 * values.c * W)
+        shift = formulas.frequency_shift(a0, w, W, values.c, values.h)
+        flat[part] = w**2 - values.omega0**2 - shift
+    return out
+
+
+def _omega_grid(Omega, order, values, omega_range, points):
+    """Candidate omega per frequency: uniform, plus dense around each k Omega."""
+    lo, hi = omega_range[0] * values.omega0, omega_range[1] * values.omega0
+    uniform = np.broadcast_to(np.linspace(lo, hi, points), (Omega.size, points))
+    k = np.arange(1, order + 2)
+    near = (k[None, :, None] * Omega[:, None, None]) + values.c * _RESONANCE_OFFSETS[None, None, :]
+    grid = np.concatenate([uniform, near.reshape(Omega.size, -1)], axis=1)
+    return np.sort(np.clip(grid, lo, hi), axis=1)
+
+
+def _illinois(formulas, values, G, Omega, lo, hi, f_lo, f_hi, iterations=80):
+    """Refine brackets [lo, hi] with a sign change of the residual, all at once."""
+    lo, hi, f_lo, f_hi = (np.array(a, dtype=float) for a in (lo, hi, f_lo, f_hi))
+    side = np.zeros(lo.shape, dtype=int)
+    active = np.ones(lo.shape, dtype=bool)
+    for _ in range(iterations):
+        idx = np.flatnonzero(active)
+        if idx.size == 0:
+            break
+        x = (lo[idx] * f_hi[idx] - hi[idx] * f_lo[idx]) / (f_hi[idx] - f_lo[idx])
+        fx = _residual(formulas, values, G[idx], x, Omega[idx])
+        left = np.sign(fx) == np.sign(f_lo[idx])
+        # Replace the end with the same sign; halve the other end's value when the
+        # same end is kept twice in a row (Illinois), so that both ends move.
+        keep_hi = left
+        lo[idx[keep_hi]], f_lo[idx[keep_hi]] = x[keep_hi], fx[keep_hi]
+        hi[idx[~keep_hi]], f_hi[idx[~keep_hi]] = x[~keep_hi], fx[~keep_hi]
+        f_hi[idx[keep_hi & (side[idx] == -1)]] /= 2
+        f_lo[idx[~keep_hi & (side[idx] == 1)]] /= 2
+        side[idx] = np.where(keep_hi, -1, 1)
+        done = (np.abs(hi[idx] - lo[idx]) <= 1e-13 * hi[idx]) | (fx == 0)
+        active[idx[done]] = False
+    return np.where(np.abs(f_lo) < np.abs(f_hi), lo, hi)
+
+
+def _waveform_extrema(formulas, values, a0, omega, Omega, samples):
+    """min and max of u over a period, and the size of each order's u_n."""
+    amplitudes = formulas.amplitudes(a0, omega, Omega, values.c, values.h)
+    top = max(k for _, k in formulas.keys)
+    per_harmonic = np.zeros((a0.size, top + 1), dtype=complex)
+    sizes = np.zeros((formulas.order + 1, a0.size))
+    for (n, k), z in zip(formulas.keys, amplitudes):
+        z = np.broadcast_to(z, a0.shape)
+        per_harmonic[:, k] += z
+        sizes[n] += np.abs(z)
+    theta = 2 * np.pi * np.arange(samples) / samples
+    basis = np.exp(1j * np.outer(np.arange(top + 1), theta))
+    u = (per_harmonic @ basis).real
+    return _refined_extreme(u, np.max), _refined_extreme(u, np.min), sizes
+
+
+def _refined_extreme(u: np.ndarray, which) -> np.ndarray:
+    """The extreme of periodic samples, refined by a parabola through three samples."""
+    j = np.argmax(u, axis=1) if which is np.max else np.argmin(u, axis=1)
+    rows = np.arange(u.shape[0])
+    y0, ym, yp = u[rows, j], u[rows, j - 1], u[rows, (j + 1) % u.shape[1]]
+    curvature = ym - 2 * y0 + yp
+    with np.errstate(divide="ignore", invalid="ignore"):
+        shift = np.where(curvature != 0, (ym - yp) / (2 * curvature), 0.0)
+    return y0 - (ym - yp) * shift / 4
+
+
+def _converging(sizes: np.ndarray) -> np.ndarray:
+    """The last orders of each parity still shrink."""
+    order = sizes.shape[0] - 1
+    ok = np.ones(sizes.shape[1], dtype=bool)
+    for n in (order, order - 1):
+        if n - 2 >= 0:
+            ok &= sizes[n] < sizes[n - 2]
+    return ok
+
+
+def _check_frequencies(frequencies_hz) -> np.ndarray:
+    freq = np.atleast_1d(np.asarray(frequencies_hz, dtype=float))
+    if freq.ndim != 1 or freq.size == 0:
+        raise ValueError(f"`frequencies_hz` must be a non-empty 1-d array, got shape {freq.shape}.")
+    if not np.all(np.isfinite(freq)) or np.any(freq <= 0):
+        raise ValueError("`frequencies_hz` must be finite and > 0.")
+    if np.any(np.diff(freq) <= 0):
+        raise ValueError("`frequencies_hz` must be strictly increasing.")
+    return freq
+
+
+def frequency_response(
+    frequencies_hz,
+    pa_frac: float,
+    order: int = 6,
+    *,
+    parameters: ContactParameters = PAPER,
+    omega_range: tuple[float, float] = (0.6, 1.2),
+    grid_points: int = 48,
+    samples: int = 256,
+) -> Response:
+    """Every response of the order-N series of Eq. 2.6 at each frequency.
+
+    Parameters
+    ----------
+    frequencies_hz : array_like, shape (m,)
+        Excitation frequencies f_e [Hz], > 0 and strictly increasing.
+    pa_frac : float
+        Force amplitude P_a as a fraction of the weight Q (>= 0).
+    order : int
+        Order N of the series (>= 0).
+    parameters : ContactParameters
+        The physical parameters (the paper's by default).
+    omega_range : (float, float)
+        Where to look for the non-linear natural frequency omega, in units of
+        omega0.
+    grid_points : int
+        Uniform grid points in ``omega_range`` (more points are added around
+        every k Omega, k = 1..N+1).
+    samples : int
+        Samples per period of the reconstructed u(t) for its extrema.
+
+    Returns
+    -------
+    Response
+        Branches with f_e, App, A0, omega, min and max of u, and validity.
+    """
+    freq = _check_frequencies(frequencies_hz)
+    pa_frac = check_positive("pa_frac", pa_frac, allow_zero=True)
+    order = check_order(order)
+    if not 0 < omega_range[0] < omega_range[1]:
+        raise ValueError(f"`omega_range` must be (lo, hi) with 0 < lo < hi, got {omega_range!r}.")
+    values = eq26_values(parameters)
+    formulas = compile_series(order)
+    Omega = 2 * np.pi * freq
+    G = pa_frac * values.Q_n * values.G_per_P_a
+
+    grid = _omega_grid(Omega, order, values, omega_range, grid_points)
+    f = _residual(formulas, values, G, grid, Omega[:, None])
+    change = np.signbit(f[:, :-1]) != np.signbit(f[:, 1:])
+    rows, cols = np.nonzero(change)
+    roots = _illinois(
+        formulas,
+        values,
+        np.full(rows.size, G),
+        Omega[rows],
+        grid[rows, cols],
+        grid[rows, cols + 1],
+        f[rows, cols],
+        f[rows, cols + 1],
+    )
+    a0 = G / np.hypot(roots**2 - Omega[rows] ** 2, 2 * values.c * Omega[rows])
+    u_max, u_min, sizes = _waveform_extrema(formulas, values, a0, roots, Omega[rows], samples)
+    valid = (values.y0_m + u_min > 0) & _converging(sizes)
+    return Response(order, pa_frac, freq, _branches(freq, rows, roots, a0, u_min, u_max, valid))
+
+
+def _branches(freq, rows, roots, a0, u_min, u_max, valid) -> list[Branch]:
+    """Sort the roots of each frequency by decreasing omega; branch j = j-th root."""
+    order = np.lexsort((-roots, rows))
+    rows, roots, a0, u_min, u_max, valid = (a[order] for a in (rows, roots, a0, u_min, u_max, valid))
+    rank = np.arange(rows.size) - np.searchsorted(rows, rows)
+    branches = []
+    for j in range(int(rank.max()) + 1 if rank.size else 0):
+        pick = rank == j
+        branches.append(
+            Branch(
+                frequency_hz=freq[rows[pick]],
+                app_m=u_max[pick] - u_min[pick],
+                a0_m=a0[pick],
+                omega_rad_s=roots[pick],
+                u_min_m=u_min[pick],
+                u_max_m=u_max[pick],
+                valid=valid[pick],
+            )
+        )
+    return branches

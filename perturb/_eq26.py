@@ -17,7 +17,7 @@ from functools import cached_property
 import sympy as sp
 
 from ._model import ContactModel
-from ._symbols import P_a, M, f_e, g, t, v, y
+from ._symbols import M, P_a, f_e, g, t, v, y
 
 __all__ = ["Eq26"]
 
@@ -36,8 +36,8 @@ class Eq26:
     >>> eq = Eq26()
     >>> eq.omega0_squared
     g*m2*(S*c_n/(M*g))**(1/m2)
-    >>> round(eq.numeric()["f_n0_hz"], 1)
-    1485.5
+    >>> round(eq.numeric()["f_n0_hz"], 2)
+    1485.59
     """
 
     def __init__(self, model: ContactModel | None = None) -> None:

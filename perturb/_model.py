@@ -12,7 +12,7 @@ import sympy as sp
 
 from ._effects import FULL, Effects
 from ._parameters import PAPER, ContactParameters
-from ._symbols import PARAMETER_SYMBOLS, P_a, M, S, c_n, f_e, g, h_n, l, m2, t, v, y
+from ._symbols import PARAMETER_SYMBOLS, M, P_a, S, c_n, f_e, g, h_n, l, m2, t, v, y
 
 __all__ = ["ContactModel", "exact_number"]
 
@@ -69,7 +69,9 @@ class ContactModel:
     def values(self) -> dict[sp.Symbol, sp.Expr]:
         """Substitution of the parameter symbols by the parameter values."""
         return {
-            PARAMETER_SYMBOLS[name]: exact_number(value) if name in ("m2", "l") else sp.Float(value, 17)
+            PARAMETER_SYMBOLS[name]: (
+                exact_number(value) if name in ("m2", "l") else sp.Float(value, 17)
+            )
             for name, value in self.parameters.as_dict().items()
         }
 

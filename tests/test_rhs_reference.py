@@ -26,7 +26,9 @@ def random_states(rng, model, n=1000):
 
 
 @pytest.mark.parametrize(
-    "parameters", [ContactParameters(), ContactParameters(m2=1.5, l=0.5)], ids=["paper", "m2=1.5,l=0.5"]
+    "parameters",
+    [ContactParameters(), ContactParameters(m2=1.5, l=0.5)],
+    ids=["paper", "m2=1.5,l=0.5"],
 )
 def test_generated_rhs_equals_hand_written_eq_2_4(parameters, rng):
     model = ContactModel(parameters)

@@ -26,7 +26,7 @@ def test_unrolled_step_is_the_tableau(rng):
     y, v, dt = static_deflection(model) * 1.3, 1e-3, 2e-5
     forces = (0.1, 0.2, 0.2, 0.3)
     stages = []
-    for c, row, force in zip(k.RK4_C, k.RK4_A, forces):
+    for row, force in zip(k.RK4_A, forces):
         ys = y + dt * sum(a * s[0] for a, s in zip(row, stages))
         vs = v + dt * sum(a * s[1] for a, s in zip(row, stages))
         stages.append((vs, k.acceleration_batch(np.array([ys]), np.array([vs]),

@@ -1,0 +1,34 @@
+"""Timing helpers shared by the benchmarks: medians of repeats, and a table row."""
+
+from __future__ import annotations
+
+import statistics
+import time
+from collections.abc import Callable
+
+__all__ = ["median_time", "row", "header"]
+
+
+def median_time(function: Callable[[], object], repeats: int = 5) -> float:
+    """Median wall time of ``function()`` over ``repeats`` calls [s]."""
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def header(title: str) -> None:
+    print(f"\n## {title}")
+    print(f"{'figure':<52} {'value':>14} {'baseline':>14} {'ratio':>9}")
+
+
+def row(name: str, value: float, baseline: float | None = None, unit: str = "",
+        higher_is_better: bool = True) -> None:
+    """One line: figure, its baseline from the same run, and the ratio (x better)."""
+    if baseline is None:
+        print(f"{name:<52} {value:>11.4g} {unit:<2}")
+        return
+    ratio = value / baseline if higher_is_better else baseline / value
+    print(f"{name:<52} {value:>11.4g} {unit:<2} {baseline:>11.4g} {unit:<2} {ratio:>8.1f}x")

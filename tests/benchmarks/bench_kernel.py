@@ -1,0 +1,121 @@
+"""Kernel throughput: RK4 lane-steps per second on one core, full model with contact loss.
+
+Baseline, in the same run: a straightforward compiled loop, one lane at a time,
+that evaluates cos and pow in its right-hand side at every stage (the textbook
+way). Also the one-off compile time, and what the on-disk cache leaves of it.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+import numba
+import numpy as np
+
+from numerics import compiled_kernels, drive_table, static_deflection
+from perturb import PAPER, ContactModel
+
+from ._timing import header, median_time, row
+
+LANES, STEPS, PERIODS = 1000, 128, 40
+
+
+@numba.njit(cache=True)
+def textbook_rk4(y, v, f_e, p_a, steps, periods, S, c_n, m2, h_n, l, M, g):  # noqa: E741
+    """One lane after another; Eq. 2.4 with cos and pow at every stage (baseline only)."""
+
+    def accel(t, yy, vv, fe, pa):
+        contact = -S * c_n * yy**m2 - S * h_n * yy**l * vv if yy > 0 else 0.0
+        return (contact + M * g + pa * math.cos(2 * math.pi * fe * t)) / M
+
+    for lane in range(y.shape[0]):
+        dt = 1.0 / (steps * f_e[lane])
+        yy, vv, t = y[lane], v[lane], 0.0
+        for _ in range(steps * periods):
+            a1 = accel(t, yy, vv, f_e[lane], p_a[lane])
+            a2 = accel(t + dt / 2, yy + dt / 2 * vv, vv + dt / 2 * a1, f_e[lane], p_a[lane])
+            a3 = accel(t + dt / 2, yy + dt / 2 * (vv + dt / 2 * a1), vv + dt / 2 * a2,
+                       f_e[lane], p_a[lane])
+            a4 = accel(t + dt, yy + dt * (vv + dt / 2 * a2), vv + dt * a3, f_e[lane], p_a[lane])
+            yy, vv = (yy + dt / 6 * (vv + 2 * (vv + dt / 2 * a1) + 2 * (vv + dt / 2 * a2)
+                                    + vv + dt * a3),
+                      vv + dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4))
+            t += dt
+        y[lane], v[lane] = yy, vv
+
+
+def _lanes(model):
+    f_e = np.linspace(250.0, 1800.0, LANES)
+    p_a = np.full(LANES, 0.5 * PAPER.weight_n)  # strong drive: most lanes lose contact
+    y = np.full(LANES, static_deflection(model))
+    return f_e, p_a, y, np.zeros(LANES)
+
+
+def throughput() -> tuple[float, float, float]:
+    model = ContactModel()
+    kernels = compiled_kernels(model)
+    f_e, p_a, y, v = _lanes(model)
+    drive = drive_table(STEPS)
+    failed = np.full(LANES, -1)
+    dt = 1.0 / (STEPS * f_e)
+    kernels.advance_periods(y, v, dt, p_a, drive, 1, failed)  # compile / load
+    generated = median_time(lambda: kernels.advance_periods(y, v, dt, p_a, drive, PERIODS, failed))
+    lost = float(np.mean(_lost_contact(kernels, model)))
+    p = PAPER
+    args = (STEPS, PERIODS // 4, p.S, p.c_n, p.m2, p.h_n, p.l, p.M, p.g)
+    f2, p2, y2, v2 = _lanes(model)
+    textbook_rk4(y2[:2], v2[:2], f2[:2], p2[:2], *args)  # compile / load
+    textbook = median_time(lambda: textbook_rk4(y2, v2, f2, p2, *args), repeats=3)
+    lane_steps = LANES * STEPS
+    return lane_steps * PERIODS / generated, lane_steps * PERIODS / 4 / textbook, lost
+
+
+def _lost_contact(kernels, model):
+    f_e, p_a, y, v = _lanes(model)
+    ymin, ymax = np.empty(LANES), np.empty(LANES)
+    empty = np.empty((LANES, 0))
+    kernels.advance_periods(y, v, 1 / (STEPS * f_e), p_a, drive_table(STEPS), 100,
+                            np.full(LANES, -1))
+    kernels.record_periods(y, v, 1 / (STEPS * f_e), p_a, drive_table(STEPS), 1,
+                           np.full(LANES, -1), 0, ymin, ymax, empty, empty,
+                           np.empty((LANES, 0), np.int8), np.zeros(LANES, np.int64), empty, empty)
+    return ymin < 0
+
+
+_COMPILE_SNIPPET = (
+    "import time; t=time.perf_counter(); from numerics import simulate;"
+    "t1=time.perf_counter(); simulate(1000.0, 0.1, periods=2);"
+    "print(t1-t, time.perf_counter()-t1)"
+)
+
+
+def compile_times() -> list[tuple[float, float]]:
+    """(import, first simulate()) in a fresh process with an empty cache, then again."""
+    with tempfile.TemporaryDirectory() as cache:
+        env = os.environ | {"CONTACT_RESONANCES_CACHE": cache}
+        runs = [
+            subprocess.run([sys.executable, "-c", _COMPILE_SNIPPET], env=env,
+                           capture_output=True, text=True, check=True).stdout.split()
+            for _ in range(2)
+        ]
+    return [tuple(float(x) for x in r) for r in runs]
+
+
+def main() -> None:
+    generated, textbook, lost = throughput()
+    header(f"RK4 kernel: {LANES} lanes, full model, {lost:.0%} of lanes lose contact, one core")
+    row("generated batched kernel [lane-steps/s]", generated, textbook, "/s")
+    row("  goal [lane-steps/s]", 1e8, None)
+    (import_cold, cold), (import_warm, warm) = compile_times()
+    header("compile cost: a fresh process, empty cache (baseline) then cached")
+    row("first simulate(), kernels cached on disk [s]", warm, cold, "s", higher_is_better=False)
+    row("import numerics (numba, sympy) [s]", import_warm, import_cold, "s",
+        higher_is_better=False)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,36 @@
+"""Every example in README.md runs: the python blocks, and the commands of the console blocks."""
+
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+README = (Path(__file__).parents[1] / "README.md").read_text()
+PYTHON_BLOCKS = re.findall(r"```python\n(.*?)```", README, re.S)
+COMMANDS = [
+    line.split("#")[0].strip()
+    for block in re.findall(r"```console\n(.*?)```", README, re.S)
+    for line in block.splitlines()
+    if line.startswith("python -m")
+]
+
+
+@pytest.mark.parametrize("code", PYTHON_BLOCKS, ids=lambda code: code.splitlines()[0][:40])
+def test_python_example_runs(code):
+    exec(compile(code, "README.md", "exec"), {})
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_command_example_runs(command, tmp_path):
+    args = shlex.split(command)
+    (tmp_path / "out").mkdir()
+    subprocess.run([sys.executable, *args[1:]], cwd=tmp_path, check=True, capture_output=True,
+                   timeout=600)
+
+
+def test_readme_opens_with_the_two_commands():
+    head = README[:1200]
+    assert "make paper" in head and "make test" in head

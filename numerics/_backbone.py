@@ -109,22 +109,27 @@ class Backbone:
         )
 
 
-def _gauss_mean(r: Restoring, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Mean of r over [a, b] by Gauss-Legendre; r must be smooth on the segment."""
-    return r(a[..., None] + _GAUSS_T * (b - a)[..., None]) @ _GAUSS_W
+def _edge_mean(r: Restoring, edge: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Mean of r over [edge, b], smooth inside, with nodes crowded towards ``edge``.
+
+    sigma = edge + (b - edge) t^2 turns (1 + sigma)^m2, whose derivatives blow
+    up at the contact edge for a fractional m2, into the smoother t^(2 m2).
+    """
+    t = _GAUSS_T**2
+    return r(edge[..., None] + t * (b - edge)[..., None]) @ (2 * _GAUSS_T * _GAUSS_W)
 
 
 def _mean_force(r: Restoring, a, b) -> np.ndarray:
     """D[a, b]: the mean of r over the segment [a, b] (a first divided difference of D).
 
-    A segment across the contact edge sigma = -1 is split there, so that each
-    part is smooth and the quadrature stays exact to rounding.
+    The segment is split at the point nearest the contact edge sigma = -1, so
+    that each part is smooth and the quadrature stays exact to rounding.
     """
     a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
     edge = np.clip(-1.0, np.minimum(a, b), np.maximum(a, b))
     length = b - a
     share = np.divide(edge - a, length, out=np.zeros_like(length), where=length != 0)
-    return share * _gauss_mean(r, a, edge) + (1 - share) * _gauss_mean(r, edge, b)
+    return share * _edge_mean(r, edge, a) + (1 - share) * _edge_mean(r, edge, b)
 
 
 def _second_difference(r: Restoring, lower, upper, s) -> np.ndarray:

@@ -1,0 +1,208 @@
+"""The exact backbone against independent routes: the linear limit, the hand-derived
+Lindstedt coefficient, the closed-form contact-loss level, a tight solve_ivp of the
+conservative ODE written from the model's expressions, and the project's RK4."""
+
+import json
+
+import numpy as np
+import pytest
+import sympy as sp
+from scipy.integrate import solve_ivp
+
+from numerics import exact_backbone, simulate
+from numerics.__main__ import main
+from numerics._restoring import restoring_force
+from perturb import EQ_2_6, ContactModel, ContactParameters, Eq26
+from perturb import symbols as sym
+
+EXPONENTS = (1.0, 1.5, 2.0, 2.5, 3.0)
+
+
+def model_with(m2: float, **changes) -> ContactModel:
+    return ContactModel(ContactParameters(m2=m2, **changes))
+
+
+def y0_of(model: ContactModel) -> float:
+    return model.numeric(model.static_deflection)
+
+
+# -- the linear limit -------------------------------------------------------------------
+@pytest.mark.parametrize("m2", EXPONENTS)
+@pytest.mark.parametrize("level", [1e-14, 1e-9, 1e-6])
+def test_small_amplitude_limit_is_f_n0(m2, level):
+    # A naive E - V(y) loses every digit at 1e-14 y0; the quadrature must not.
+    model = model_with(m2)
+    backbone = exact_backbone([level * y0_of(model)], model=model)
+    f_n0 = Eq26(model).numeric()["f_n0_hz"]
+    error = abs(backbone.frequency_hz[0] / f_n0 - 1)
+    assert error < 1e-9, f"m2={m2}, u/y0={level}: relative error {error:.2e}"
+    assert abs(backbone.f_n0_hz / f_n0 - 1) < 1e-12
+    # Linear vibration: A_pp = 2 a1 = 2 u_max.
+    assert backbone.app_m[0] == pytest.approx(2 * level * y0_of(model), rel=1e-6)
+    assert backbone.a1_m[0] == pytest.approx(level * y0_of(model), rel=1e-6)
+
+
+@pytest.mark.parametrize("m2", [1.5, 2.0, 2.5, 3.0])
+def test_leading_amplitude_correction_is_lindstedt(m2):
+    # For u'' + w0^2 u + a2 u^2 + a3 u^3 = 0 (Nayfeh and Mook, 1995, Sec. 4.1):
+    # w/w0 = 1 + (9 a3 w0^2 - 10 a2^2) / (24 w0^4) a1^2. Here, scaled by y0 and
+    # sqrt(y0/g): w0^2 = m2, a2 = m2 (m2-1)/2, a3 = m2 (m2-1)(m2-2)/6. For m2 = 2
+    # it is -5/48: the series of Eq. 2.7 at its first non-zero order.
+    a2, a3 = m2 * (m2 - 1) / 2, m2 * (m2 - 1) * (m2 - 2) / 6
+    expected = (9 * a3 * m2 - 10 * a2**2) / (24 * m2**2)
+    model = model_with(m2)
+    y0 = y0_of(model)
+    backbone = exact_backbone(y0 * np.array([1e-3, 2e-3]), model=model)
+    ratio = (backbone.frequency_hz / backbone.f_n0_hz - 1) / (backbone.a1_m / y0) ** 2
+    # The next term is O(a1^2): extrapolate the two levels to a1 = 0.
+    a = (backbone.a1_m / y0) ** 2
+    limit = (ratio[0] * a[1] - ratio[1] * a[0]) / (a[1] - a[0])
+    assert limit == pytest.approx(expected, rel=1e-6), f"m2={m2}: {limit} vs {expected}"
+
+
+# -- contact loss ------------------------------------------------------------------------
+def test_contact_loss_level_is_sqrt3_y0_for_m2_2():
+    # Hand derivation for m2 = 2: D(s) = s^2 + s^3/3, D(-1) = 2/3, so the level
+    # that just reaches y = 0 has (1 + s+)^3 = 3 (1 + s+): y_max = sqrt(3) y0, y_min = 0.
+    backbone = exact_backbone([1e-7])
+    y0 = backbone.y0_m
+    assert backbone.contact_loss_app_m == pytest.approx(np.sqrt(3) * y0, rel=1e-14)
+
+
+@pytest.mark.parametrize("m2", EXPONENTS)
+def test_contact_loss_is_where_ymin_crosses_zero(m2):
+    model = model_with(m2)
+    y0 = y0_of(model)
+    loss_app = exact_backbone([y0], model=model).contact_loss_app_m
+    u_loss = loss_app - y0  # y_max - y0 when y_min = 0
+    around = u_loss * (1 + np.array([-1e-6, -1e-9, 1e-9, 1e-6]))
+    backbone = exact_backbone(around, model=model)
+    assert np.all(backbone.contact_lost == [False, False, True, True])
+    assert np.all(np.sign(backbone.ymin_m) == [1, 1, -1, -1]), backbone.ymin_m
+    assert np.all(np.abs(backbone.ymin_m) < 1e-5 * y0)
+    # The two regimes (contact / bouncing) meet continuously at the edge.
+    jump = abs(backbone.frequency_hz[2] / backbone.frequency_hz[1] - 1)
+    assert jump < 1e-8, f"m2={m2}: frequency jumps by {jump:.2e} across contact loss"
+
+
+# -- solve_ivp of the conservative ODE from the model's own expressions ------------------
+def conservative_rhs(model: ContactModel):
+    """Eq. 2.4 with F_d = 0 (h_n -> 0) and P = 0, lambdified from perturb."""
+    acceleration = model.acceleration(sp.Integer(0)).subs(sym.h_n, 0).subs(model.values)
+    function = sp.lambdify((sym.y, sym.v), acceleration, modules="math")
+    return lambda t, state: (state[1], function(state[0], state[1]))
+
+
+def free_oscillation(model: ContactModel, u_max: float, periods: int = 3) -> dict:
+    """Period, turning points and fundamental amplitude of a free run from rest at y0 + u."""
+    y0 = y0_of(model)
+    omega0 = np.sqrt(model.numeric(sym.g * sym.m2 / model.static_deflection))
+    top, bottom = (lambda t, s: s[1]), (lambda t, s: s[1])
+    top.direction, bottom.direction = -1, 1
+    run = solve_ivp(
+        conservative_rhs(model), (0, periods * 60 * np.pi / omega0), [y0 + u_max, 0.0],
+        method="DOP853", rtol=1e-13, atol=[1e-14 * y0, 1e-14 * y0 * omega0],
+        events=[top, bottom], dense_output=True,
+    )
+    tops = run.t_events[0][-(periods + 1):]
+    period = (tops[-1] - tops[0]) / periods
+    samples = run.sol(tops[0] + period * np.arange(4096) / 4096)[0]
+    return {
+        "frequency": 1 / period,
+        "ymin": run.y_events[1][-1, 0],
+        "a1": 2 * abs(np.fft.rfft(samples)[1]) / samples.size,
+    }
+
+
+@pytest.mark.parametrize("m2", [2.0, 2.5])
+@pytest.mark.parametrize("level", [0.01, 0.7, 1.0, 2.5])
+def test_agrees_with_tight_solve_ivp(m2, level):
+    model = model_with(m2)
+    y0 = y0_of(model)
+    backbone = exact_backbone([level * y0], model=model)
+    free = free_oscillation(model, level * y0)
+    assert backbone.frequency_hz[0] / free["frequency"] - 1 == pytest.approx(0, abs=1e-10)
+    assert (backbone.ymin_m[0] - free["ymin"]) / backbone.app_m[0] == pytest.approx(0, abs=1e-10)
+    assert backbone.a1_m[0] / free["a1"] - 1 == pytest.approx(0, abs=1e-9)
+
+
+# -- the project's RK4, with damping made negligible --------------------------------------
+def rk4_frequency_error(level: float, steps: tuple[int, ...], periods: int = 4) -> np.ndarray:
+    """|f_RK4 / f_exact - 1| after ``periods`` periods started from rest at y_max.
+
+    The run is phase-locked to the exact frequency, so it should end where it
+    started; the time it is off, |v_end / y''(y_max)|, over the time run is the
+    relative error of the frequency.
+    """
+    model = model_with(2.0, h_n=1e-3)  # damping ratio ~ 1e-16: conservative in effect
+    y0 = y0_of(model)
+    backbone = exact_backbone([level * y0], model=model)
+    r = restoring_force(model)
+    acceleration_at_top = -r(np.array([level])) * model.numeric(sym.g)
+    errors = []
+    for n in steps:
+        run = simulate(backbone.frequency_hz, 0.0, periods=periods, steps_per_period=n,
+                       model=model, y_init=y0 + level * y0, v_init=0.0, record=("final",))
+        errors.append(abs(run.v_final[0] / acceleration_at_top[0]) * backbone.frequency_hz[0])
+    return np.array(errors) / periods
+
+
+def test_rk4_converges_to_backbone_with_order_4_in_contact():
+    steps = (32, 64, 128, 256)
+    errors = rk4_frequency_error(0.3, steps)
+    slope = -np.polyfit(np.log(steps), np.log(errors), 1)[0]
+    assert 3.8 < slope < 4.2, f"order {slope:.2f}, errors {errors}"
+    assert errors[-1] < 1e-8
+
+
+def test_rk4_converges_to_backbone_while_bouncing():
+    # The force has a kink in its derivative at y = 0, which caps RK4's order.
+    steps = (64, 128, 256)
+    errors = rk4_frequency_error(1.0, steps)
+    slope = -np.polyfit(np.log(steps), np.log(errors), 1)[0]
+    assert slope > 2.5, f"order {slope:.2f}, errors {errors}"
+    assert errors[-1] < 1e-7
+
+
+# -- shape, speed and input --------------------------------------------------------------
+def test_frequency_falls_with_amplitude_and_fast():
+    backbone = exact_backbone(points=300)
+    assert np.all(np.diff(backbone.app_m) > 0)
+    assert np.all(np.diff(backbone.frequency_hz) <= 1e-9 * backbone.f_n0_hz)
+    assert np.array_equal(backbone.contact_lost, backbone.ymin_m < 0)
+    again = exact_backbone(points=300)
+    assert again.elapsed_s < 1.0, f"{again.elapsed_s:.3f} s for 300 points"
+
+
+def test_quadrature_converges_geometrically():
+    # Measured: 7e-8, 2e-11, 2e-14 at 8, 16, 24 nodes; algebraic convergence
+    # (an unremoved endpoint singularity) would fall by a fixed power instead.
+    reference = exact_backbone(points=100, nodes=128)
+    errors = [
+        np.max(np.abs(exact_backbone(reference.u_max_m, nodes=n).frequency_hz
+                      / reference.frequency_hz - 1))
+        for n in (8, 16, 24)
+    ]
+    assert errors[1] < 1e-3 * errors[0] and errors[2] < 1e-13, errors
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [({"u_max_m": [-1e-9]}, "u_max_m"), ({"u_max_m": []}, "u_max_m"),
+     ({"points": 0}, "points"), ({"nodes": 4}, "nodes"),
+     ({"model": ContactModel(effects=EQ_2_6)}, "model")],
+)
+def test_bad_input_is_named(kwargs, name):
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        exact_backbone(**kwargs)
+
+
+def test_cli_writes_the_four_keys(tmp_path, capsys):
+    path = tmp_path / "backbone.json"
+    assert main(["backbone", "--points", "7", "--json", str(path), "--quiet"]) == 0
+    payload = json.loads(path.read_text())
+    for key in ("app_m", "a1_m", "frequency_hz", "contact_lost"):
+        assert len(payload[key]) == 7, key
+    assert payload["contact_lost"][0] is False and payload["contact_lost"][-1] is True
+    out = capsys.readouterr()
+    assert "contact lost" in out.out and out.err == ""

@@ -15,6 +15,7 @@ __all__ = [
     "PAPER_F_N0_HZ",
     "PAPER_PANEL_FRACTIONS",
     "PAPER_BAND_HZ",
+    "PAPER_CUBE_SIDE_M",
     "check_positive",
 ]
 
@@ -102,6 +103,11 @@ PAPER_F_N0_HZ = 1485.0
 
 #: Force amplitudes of Fig. 2 and 3, panels a..j, as fractions of Q.
 PAPER_PANEL_FRACTIONS = (0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.35, 0.40, 0.45, 0.50)
+
+#: Side of the paper's steel cube [m] (Section 2: "a cube made of steel, whose
+#: width, length and height are 30 mm"); M is its mass, S its face. Fig. 4 takes
+#: the steel's density from it, rho = M / side^3.
+PAPER_CUBE_SIDE_M = 0.03
 
 #: The frequency band of Fig. 2 and 3 [Hz].
 PAPER_BAND_HZ = (250.0, 1800.0)

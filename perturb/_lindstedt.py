@@ -156,6 +156,11 @@ class Series:
     def forcing_closed_form(self, n: int, k: int) -> tuple[sp.Expr, sp.Expr]:
         """(F_n_k, psi_n_k) with F cos(k Omega t + psi) = harmonic k of the right side."""
         terms = self.equations[self._check_n(n)].rhs[k]
+        if k and len(terms) == 1 and not terms[0].bs:
+            # One cosine of known sign: its size, and pi more phase if negative.
+            (term,) = terms
+            flip = sp.pi if term.number < 0 else 0
+            return sp.Abs(term.coefficient()), term.phase() + flip
         cos_part = sp.Add(*(t.coefficient() * sp.cos(t.phase()) for t in terms))
         if k == 0:
             return cos_part, sp.Integer(0)

@@ -1,0 +1,205 @@
+"""Printing the derived series for people: plain text and LaTeX.
+
+For each order: the equation in the form of the paper (left side, right side
+from b_k and products of lower orders), its right side split into harmonics,
+b_n, and the solution with the closed form of every amplitude and phase; then
+the series of omega^2 (Eq. 2.7).
+
+Examples
+--------
+>>> from perturb._lindstedt import derive
+>>> print(text_report(derive(1)).splitlines()[10])
+  u_1'' + 2*c*u_1' + omega**2*u_1 = b_1*u_0 - h*u_0**2
+"""
+
+from __future__ import annotations
+
+import re
+
+import sympy as sp
+
+from . import _series_symbols as sym
+from ._lindstedt import Series, gain_closed_form, lag_closed_form
+
+__all__ = ["text_report", "latex_report", "series_json", "generic_right_side", "latex_names"]
+
+_INDEXED = re.compile(r"^(A|phi|F|psi|z|zc)_(\d+)_(\d+)$")
+_SINGLE = re.compile(r"^(b|H|theta|u)_(\d+)$")
+_LATEX_BASE = {"A": "A", "phi": r"\varphi", "F": "F", "psi": r"\psi", "z": "z", "zc": r"\bar{z}"}
+_LATEX_SINGLE = {"b": "b", "H": "H", "theta": r"\theta", "u": "u"}
+
+
+def _u(n: int) -> sp.Symbol:
+    return sp.Symbol(f"u_{n}")
+
+
+def generic_right_side(n: int) -> sp.Expr:
+    """sum_{k=1..n} b_k u_{n-k} - h sum_{i+j=n-1} u_i u_j (Eq. 2.9, 2.10, A.1, A.2).
+
+    Examples
+    --------
+    >>> generic_right_side(3)
+    b_1*u_2 + b_2*u_1 + b_3*u_0 - h*(2*u_0*u_2 + u_1**2)
+    """
+    if n == 0:
+        return sym.G * sp.cos(sym.Omega * sym.t)
+    bs = sp.Add(*(sym.b(k) * _u(n - k) for k in range(1, n + 1)))
+    products = sp.Add(*(_u(i) * _u(n - 1 - i) for i in range(n)))
+    return bs - sym.h * products
+
+
+def latex_names(expr: sp.Expr) -> dict[sp.Symbol, str]:
+    """LaTeX names for the engine's symbols: A_2_1 -> A_{2,1}, phi_0_1 -> varphi_{0,1}."""
+    names: dict[sp.Symbol, str] = {sym.omega0: r"\omega_0", sym.eps: r"\varepsilon"}
+    for symbol in expr.free_symbols:
+        match = _INDEXED.match(str(symbol))
+        if match:
+            base, n, k = match.groups()
+            names[symbol] = f"{_LATEX_BASE[base]}_{{{n},{k}}}"
+        match = _SINGLE.match(str(symbol))
+        if match:
+            base, n = match.groups()
+            names[symbol] = f"{_LATEX_SINGLE[base]}_{{{n}}}"
+    return names
+
+
+def _left_side_text(n: int) -> str:
+    return f"u_{n}'' + 2*c*u_{n}' + omega**2*u_{n}"
+
+
+def _left_side_latex(n: int) -> str:
+    return rf"\ddot u_{{{n}}} + 2c\,\dot u_{{{n}}} + \omega^2 u_{{{n}}}"
+
+
+def _order_items(series: Series, n: int) -> list[tuple[str, sp.Expr, sp.Expr]]:
+    """(label, left, right) pairs that describe order n after its equation."""
+    items: list[tuple[str, sp.Expr, sp.Expr]] = []
+    if n == 0:
+        amplitude, phase = series.solution_closed_form(0, 1)
+        items.append(("solution", _u(0), series.solution(0)))
+        items.append(("closed form", sym.amplitude(0, 1), amplitude))
+        items.append(("closed form", sym.phase(0, 1), phase))
+        return items
+    for k in series.harmonics(n):
+        items.append(("right side", sp.Symbol(f"[harmonic {k}]"), series.rhs_cosines(n, k)))
+    items.append(("frequency", sym.b(n), series.b_closed_form(n)))
+    items.append(("solution", _u(n), series.solution(n)))
+    for k in series.harmonics(n):
+        forcing, forcing_phase = series.forcing_closed_form(n, k)
+        amplitude, phase = series.solution_closed_form(n, k)
+        items.append(("closed form", sym.forcing_amplitude(n, k), forcing))
+        if k:
+            items.append(("closed form", sym.forcing_phase(n, k), forcing_phase))
+        items.append(("closed form", sym.amplitude(n, k), amplitude))
+        if k:
+            items.append(("closed form", sym.phase(n, k), phase))
+    return items
+
+
+def _transfer_lines(series: Series) -> list[tuple[sp.Expr, sp.Expr]]:
+    top = max(max(series.harmonics(n)) for n in range(series.order + 1))
+    lines = []
+    for k in range(1, top + 1):
+        lines.append((sym.gain(k), gain_closed_form(k)))
+        lines.append((sym.lag(k), lag_closed_form(k)))
+    return lines
+
+
+def text_report(series: Series) -> str:
+    """The derivation as plain text, order by order."""
+    lines = [
+        f"Perturbation series of Eq. 2.6 to order {series.order}",
+        "Eq. 2.6: u'' + 2*c*u' + omega0**2*u + eps*h*u**2 = G*cos(Omega*t)",
+        f"Eq. 2.7: omega**2 = {sp.sstr(series.omega_squared())}",
+        "Transfer of harmonic k: H_k*exp(I*theta_k) = 1/(omega**2 - k**2*Omega**2 + 2*I*k*c*Omega)",
+    ]
+    for n in range(series.order + 1):
+        lines.append(f"-- eps^{n}")
+        lines.append(f"  {_left_side_text(n)} = {sp.sstr(generic_right_side(n))}")
+        for label, left, right in _order_items(series, n):
+            indent = "    " if label == "closed form" else "  "
+            lines.append(f"{indent}{sp.sstr(left)} = {sp.sstr(right)}")
+    lines.append("-- transfer functions")
+    lines += [f"  {sp.sstr(left)} = {sp.sstr(right)}" for left, right in _transfer_lines(series)]
+    return "\n".join(lines) + "\n"
+
+
+def _latex(expr: sp.Expr) -> str:
+    return sp.latex(expr, symbol_names=latex_names(expr))
+
+
+def latex_report(series: Series) -> str:
+    """The derivation as a LaTeX fragment (``align*`` blocks, one per order)."""
+    out = [
+        rf"% Perturbation series of Eq. 2.6 to order {series.order} (perturb derive)",
+        r"\begin{align*}",
+        r"\ddot u + 2c\,\dot u + \omega_0^2 u + \varepsilon h u^2 &= G\cos(\Omega t)\\",
+        rf"\omega^2 &= {_latex(series.omega_squared())}",
+        r"\end{align*}",
+    ]
+    for n in range(series.order + 1):
+        out.append(rf"\paragraph{{$\varepsilon^{{{n}}}$}}")
+        out.append(r"\begin{align*}")
+        rows = [rf"{_left_side_latex(n)} &= {_latex(generic_right_side(n))}"]
+        for label, left, right in _order_items(series, n):
+            if label == "right side":
+                rows.append(rf"&\quad {_latex(right)}")
+            else:
+                rows.append(rf"{_latex(left)} &= {_latex(right)}")
+        out.append("\\\\\n".join(rows))
+        out.append(r"\end{align*}")
+    out.append(r"\begin{align*}")
+    out.append(
+        "\\\\\n".join(rf"{_latex(left)} &= {_latex(right)}" for left, right in _transfer_lines(series))
+    )
+    out.append(r"\end{align*}")
+    return "\n".join(out) + "\n"
+
+
+def series_json(series: Series) -> dict:
+    """The derivation as JSON-ready data; every expression is a sympy-readable string.
+
+    Keys: ``order``; ``b`` (n -> b_n); ``terms``, one per harmonic of each u_n
+    with ``name``, ``order``, ``harmonic``, ``amplitude`` and ``phase`` in closed
+    form of lower-order names and of c, h, G, omega, Omega; ``paper_names``.
+
+    Examples
+    --------
+    >>> from perturb._lindstedt import derive
+    >>> data = series_json(derive(1))
+    >>> data["b"], data["terms"][2]["amplitude"]
+    ({'1': '0'}, 'A_0_1**2*h/(2*sqrt(16*Omega**2*c**2 + (-4*Omega**2 + omega**2)**2))')
+    """
+    from ._paper_names import paper_names
+
+    terms = []
+    for n in range(series.order + 1):
+        for k in series.harmonics(n):
+            amplitude, phase = _explicit(series, n, k)
+            terms.append(
+                {
+                    "name": f"u_{n}_{k}",
+                    "order": n,
+                    "harmonic": k,
+                    "amplitude": sp.sstr(amplitude),
+                    "phase": sp.sstr(phase),
+                }
+            )
+    return {
+        "order": series.order,
+        "b": {str(n): sp.sstr(series.b_closed_form(n)) for n in range(1, series.order + 1)},
+        "terms": terms,
+        "paper_names": paper_names(min(series.order, 4)),
+    }
+
+
+def _explicit(series: Series, n: int, k: int) -> tuple[sp.Expr, sp.Expr]:
+    """A_n_k and phi_n_k with F, psi, H and theta replaced by their closed forms."""
+    amplitude, phase = series.solution_closed_form(n, k)
+    replace = {sym.gain(j): gain_closed_form(j) for j in range(k, k + 1) if j}
+    replace.update({sym.lag(j): lag_closed_form(j) for j in range(k, k + 1) if j})
+    if n:
+        forcing, forcing_phase = series.forcing_closed_form(n, k)
+        replace[sym.forcing_amplitude(n, k)] = forcing
+        replace[sym.forcing_phase(n, k)] = forcing_phase
+    return amplitude.xreplace(replace), sp.sympify(phase).xreplace(replace)

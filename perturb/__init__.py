@@ -2,11 +2,17 @@
 
 The physical model of Eq. 2.1-2.4 lives here once (``ContactModel``), with the
 paper's parameter values as defaults (``PAPER``); Eq. 2.6 is derived from it
-(``Eq26``).
+(``Eq26``). The perturbation series of Eq. 2.6 is derived to any order
+(``derive``), printed (``text_report``, ``latex_report``, ``series_json``),
+compiled (``compile_series``) and solved for the frequency response
+(``frequency_response``); ``backbone_series`` gives the free backbone exactly.
 """
 
+from ._backbone_series import BackboneSeries, backbone_series
+from ._compiled import CompiledSeries, compile_series
 from ._effects import EQ_2_6, FULL, LINEAR, Effects
 from ._eq26 import Eq26
+from ._lindstedt import Series, derive
 from ._model import ContactModel
 from ._parameters import (
     PAPER,
@@ -15,9 +21,16 @@ from ._parameters import (
     PAPER_PANEL_FRACTIONS,
     ContactParameters,
 )
+from ._paper_names import PAPER_DIFFERENCES, PAPER_NAMES, paper_names
+from ._printing import latex_report, series_json, text_report
+from ._response import Branch, Response, frequency_response
+from . import _series_symbols as series_symbols
 from . import _symbols as symbols
 
 __all__ = [
+    "BackboneSeries",
+    "Branch",
+    "CompiledSeries",
     "ContactModel",
     "ContactParameters",
     "EQ_2_6",
@@ -27,7 +40,20 @@ __all__ = [
     "LINEAR",
     "PAPER",
     "PAPER_BAND_HZ",
+    "PAPER_DIFFERENCES",
     "PAPER_F_N0_HZ",
+    "PAPER_NAMES",
     "PAPER_PANEL_FRACTIONS",
+    "Response",
+    "Series",
+    "backbone_series",
+    "compile_series",
+    "derive",
+    "frequency_response",
+    "latex_report",
+    "paper_names",
+    "series_json",
+    "series_symbols",
     "symbols",
+    "text_report",
 ]

@@ -22,6 +22,7 @@ Examples
 
 from __future__ import annotations
 
+import numbers
 from functools import lru_cache
 
 import sympy as sp
@@ -91,13 +92,6 @@ def check_order(order: object, name: str = "order", minimum: int = 0) -> int:
     ...
     ValueError: `order` must be an integer >= 0, got 2.5.
     """
-    if isinstance(order, bool) or not isinstance(order, (int, sp.Integer)):
-        try:
-            is_int = float(order) == int(order)  # type: ignore[arg-type]
-        except (TypeError, ValueError, OverflowError):
-            is_int = False
-        if not is_int or isinstance(order, bool):
-            raise ValueError(f"`{name}` must be an integer >= {minimum}, got {order!r}.")
-    if int(order) < minimum:  # type: ignore[arg-type]
+    if isinstance(order, bool) or not isinstance(order, numbers.Integral) or order < minimum:
         raise ValueError(f"`{name}` must be an integer >= {minimum}, got {order!r}.")
-    return int(order)  # type: ignore[arg-type]
+    return int(order)

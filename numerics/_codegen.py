@@ -36,23 +36,50 @@ def cache_dir() -> Path:
     return base / "kernels"
 
 
-def acceleration_source(model: ContactModel) -> str:
-    """Python source of ``acceleration(y, v, force)`` for the model, via lambdify.
+def _guard_contact_branch(expr: sp.Expr, y: sp.Symbol) -> sp.Expr:
+    """Write y as max(y, 0) inside the in-contact branch of every Piecewise.
 
-    The drive P(t) is replaced by the argument ``force`` (the kernels tabulate
-    it), and every parameter by its value.
+    Compiled code may evaluate both branches of a conditional; with the guard it
+    never raises a negative number to a fractional power (m2 = 1.5, l = 0.5).
+    """
+
+    def guard(piecewise: sp.Piecewise) -> sp.Piecewise:
+        return sp.Piecewise(*[
+            (branch.subs(y, sp.Max(y, 0)) if condition == (y > 0) else branch, condition)
+            for branch, condition in piecewise.args
+        ])
+
+    return expr.replace(lambda e: isinstance(e, sp.Piecewise), guard)
+
+
+def _lambdified_source(name: str, expr, model: ContactModel) -> str:
+    from perturb import symbols
+
+    function = sp.lambdify((symbols.y, symbols.v, _FORCE), expr, modules="math", cse=True)
+    body = inspect.getsource(function).replace(function.__name__, name, 1)
+    return f"@numba.njit(cache=True, inline='always')\n{body}\n\n"
+
+
+def acceleration_source(model: ContactModel) -> str:
+    """Python source of the generated right-hand side of the model, via lambdify.
+
+    ``acceleration(y, v, force)`` is Eq. 2.4 for the chosen effects, and
+    ``acceleration_partials(y, v, force)`` its derivatives by y and by v (for the
+    monodromy matrix), both differentiated by sympy. The drive P(t) is replaced
+    by the argument ``force`` (the kernels tabulate it), and every parameter by
+    its value.
     """
     from perturb import symbols
 
-    expr = model.numeric_acceleration(_FORCE, safe_powers=True)
-    function = sp.lambdify((symbols.y, symbols.v, _FORCE), expr, modules="math", cse=True)
-    body = inspect.getsource(function).replace(function.__name__, "acceleration", 1)
+    accel = model.numeric_acceleration(_FORCE)
+    partials = (sp.diff(accel, symbols.y), sp.diff(accel, symbols.v))
+    guard = lambda e: _guard_contact_branch(e, symbols.y)  # noqa: E731
     # lambdify's "math" namespace: its source names math functions unqualified.
-    header = (
-        "from math import *  # noqa: F403\n\n\n"
-        f"# Eq. 2.4 for {model!r}\n@numba.njit(cache=True, inline='always')\n"
+    return (
+        f"from math import *  # noqa: F403\n\n# Eq. 2.4 for {model!r}\n"
+        + _lambdified_source("acceleration", guard(accel), model)
+        + _lambdified_source("acceleration_partials", tuple(map(guard, partials)), model)
     )
-    return header + body
 
 
 def _module_source(model: ContactModel) -> str:

@@ -160,3 +160,92 @@ def acceleration_batch(y, v, force):
     for i in range(y.shape[0]):
         out[i] = acceleration(y[i], v[i], force[i])  # noqa: F821
     return out
+
+
+@numba.njit(cache=True, inline="always")
+def tangent(y, v, dy, dv, force):
+    """The state derivative (v, a) and its directional derivative along (dy, dv)."""
+    a = acceleration(y, v, force)  # noqa: F821
+    a_y, a_v = acceleration_partials(y, v, force)  # noqa: F821
+    return a, a_y * dy + a_v * dv
+
+
+@numba.njit(cache=True, inline="always")
+def rk4_step_tangent(y, v, dy, dv, dt, force_start, force_mid, force_end):
+    """One RK4 step and its derivative along (dy, dv): the derivative of the
+    discrete step itself, so that the monodromy matrix is exact for the map
+    that the simulator iterates."""
+    a1, da1 = tangent(y, v, dy, dv, force_start)
+    v2, dv2 = v + 0.5 * dt * a1, dv + 0.5 * dt * da1
+    a2, da2 = tangent(y + 0.5 * dt * v, v2, dy + 0.5 * dt * dv, dv2, force_mid)
+    v3, dv3 = v + 0.5 * dt * a2, dv + 0.5 * dt * da2
+    a3, da3 = tangent(y + 0.5 * dt * v2, v3, dy + 0.5 * dt * dv2, dv3, force_mid)
+    v4, dv4 = v + dt * a3, dv + dt * da3
+    a4, da4 = tangent(y + dt * v3, v4, dy + dt * dv3, dv4, force_end)
+    y_next = y + dt / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
+    v_next = v + dt / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
+    dy_next = dy + dt / 6.0 * (dv + 2.0 * dv2 + 2.0 * dv3 + dv4)
+    dv_next = dv + dt / 6.0 * (da1 + 2.0 * da2 + 2.0 * da3 + da4)
+    return y_next, v_next, dy_next, dv_next
+
+
+@numba.njit(cache=True)
+def shoot_periods(y, v, dt, p_a, drive, periods, monodromy):
+    """Advance every lane by ``periods`` periods with the derivative of the map.
+
+    On return ``monodromy[lane]`` is the 2x2 matrix d(y, v)_end / d(y, v)_start
+    (columns: derivative by y and by v); its eigenvalues are the Floquet
+    multipliers of the orbit when the start is a fixed point.
+    """
+    steps = (drive.shape[0] - 1) // 2
+    lanes = y.shape[0]
+    m = np.empty((4, lanes))  # m00, m10, m01, m11, lane innermost for SIMD
+    m[0, :] = 1.0
+    m[1, :] = 0.0
+    m[2, :] = 0.0
+    m[3, :] = 1.0
+    for _ in range(periods):
+        for k in range(steps):
+            c0 = drive[2 * k]
+            ch = drive[2 * k + 1]
+            c1 = drive[2 * k + 2]
+            for lane in range(lanes):
+                pa = p_a[lane]
+                yy, vv = y[lane], v[lane]
+                f0, fh, f1 = pa * c0, pa * ch, pa * c1
+                y1, v1, m[0, lane], m[1, lane] = rk4_step_tangent(
+                    yy, vv, m[0, lane], m[1, lane], dt[lane], f0, fh, f1
+                )
+                _, _, m[2, lane], m[3, lane] = rk4_step_tangent(
+                    yy, vv, m[2, lane], m[3, lane], dt[lane], f0, fh, f1
+                )
+                y[lane], v[lane] = y1, v1
+    for lane in range(lanes):
+        monodromy[lane, 0, 0] = m[0, lane]
+        monodromy[lane, 1, 0] = m[1, lane]
+        monodromy[lane, 0, 1] = m[2, lane]
+        monodromy[lane, 1, 1] = m[3, lane]
+
+
+@numba.njit(cache=True)
+def strobe_periods(y, v, dt, p_a, drive, periods, strobe_y, strobe_v, span, failed_period, first):
+    """Advance by whole periods, keeping the state at the end of every period
+    (the stroboscopic, once-per-period samples) in strobe_y[:, j], strobe_v[:, j],
+    and the sampled max - min of y over the last period in ``span``."""
+    steps = (drive.shape[0] - 1) // 2
+    lanes = y.shape[0]
+    low = np.empty(lanes)
+    high = np.empty(lanes)
+    for period in range(periods):
+        low[:] = y
+        high[:] = y
+        for k in range(steps):
+            advance_step(y, v, dt, p_a, drive, k)
+            for lane in range(lanes):
+                low[lane] = min(low[lane], y[lane])
+                high[lane] = max(high[lane], y[lane])
+        for lane in range(lanes):
+            strobe_y[lane, period] = y[lane]
+            strobe_v[lane, period] = v[lane]
+            span[lane] = high[lane] - low[lane]
+        mark_failed(y, v, failed_period, first + period)

@@ -117,18 +117,12 @@ class ContactModel:
             return self.power_damping(deflection, velocity)
         return self.power_damping(self.static_deflection, velocity)
 
-    def contact_force(self, *, safe_powers: bool = False) -> sp.Expr:
-        """The reaction R = F_s + F_d, gated at y = 0 when contact can be lost.
-
-        With ``safe_powers`` the deflection in the contact branch is written as
-        max(y, 0), so that compiled code never raises a negative number to a
-        fractional power, even where it evaluates both branches.
-        """
-        law = lambda d: self.spring_law(d) + self.damping_law(d, v)  # noqa: E731
+    def contact_force(self) -> sp.Expr:
+        """The reaction R = F_s + F_d, gated at y = 0 when contact can be lost."""
+        law = self.spring_law(y) + self.damping_law(y, v)
         if not self.effects.contact_loss:
-            return law(y)
-        deflection = sp.Max(y, 0) if safe_powers else y
-        return sp.Piecewise((law(deflection), y > 0), (0, True))
+            return law
+        return sp.Piecewise((law, y > 0), (0, True))
 
     # -- Eq. 2.2-2.4 --------------------------------------------------------
     @property
@@ -141,17 +135,17 @@ class ContactModel:
         """P = P_a cos(2 pi f_e t) (Eq. 2.2)."""
         return P_a * sp.cos(2 * sp.pi * f_e * t)
 
-    def acceleration(self, force: sp.Expr | None = None, *, safe_powers: bool = False) -> sp.Expr:
+    def acceleration(self, force: sp.Expr | None = None) -> sp.Expr:
         """ydot-dot = (F_k + F_d + P) / M (Eq. 2.3, 2.4).
 
         ``force`` replaces the drive P (the simulator tabulates it).
         """
         drive = self.drive if force is None else force
-        return (self.contact_force(safe_powers=safe_powers) + self.gravity_force + drive) / M
+        return (self.contact_force() + self.gravity_force + drive) / M
 
-    def numeric_acceleration(self, force: sp.Expr, *, safe_powers: bool = True) -> sp.Expr:
+    def numeric_acceleration(self, force: sp.Expr) -> sp.Expr:
         """The acceleration with every parameter replaced by its value."""
-        return self.acceleration(force, safe_powers=safe_powers).subs(self.values)
+        return self.acceleration(force).subs(self.values)
 
     def __repr__(self) -> str:
         from ._parameters import PAPER

@@ -28,8 +28,8 @@ class HysteresisLoop:
 
     Attributes
     ----------
-    f_e_hz, p_a_n : float
-        Excitation frequency [Hz] and force amplitude [N].
+    f_e_hz, p_a_n, p_a_frac : float
+        Excitation frequency [Hz], force amplitude [N] and its fraction of Q.
     phase : ndarray, shape (steps,)
         Phase in periods, (1..steps) / steps.
     y_m, v_m_s : ndarray, shape (steps,)
@@ -54,6 +54,7 @@ class HysteresisLoop:
 
     f_e_hz: float
     p_a_n: float
+    p_a_frac: float
     phase: np.ndarray
     y_m: np.ndarray
     v_m_s: np.ndarray
@@ -151,7 +152,7 @@ def hysteresis_loop(
     phase = run.history_phase[:steps]
     dt = 1 / (steps * run.f_e_hz[0])
     return HysteresisLoop(
-        f_e_hz=float(run.f_e_hz[0]), p_a_n=p_a, phase=phase, y_m=y, v_m_s=v,
+        f_e_hz=float(run.f_e_hz[0]), p_a_n=p_a, p_a_frac=float(p_a_frac), phase=phase, y_m=y, v_m_s=v,
         reaction_n=r, damping_n=damping, pressure_pa=-r / model.parameters.S,
         loop_area_j=_shoelace(y, r),
         # Periodic samples: the rectangle rule is the trapezoidal rule here.

@@ -1,0 +1,12 @@
+"""Figures drawn from the result objects of ``numerics``, kept out of its core.
+
+Each function takes a result (``Backbone``, ``HeightSweep``, ``HysteresisLoop``),
+draws on a new matplotlib ``Figure`` (no pyplot, no global state; PNG through
+Agg) and, given ``path``, saves it there.
+"""
+
+from ._backbone import plot_backbone
+from ._hysteresis import plot_hysteresis
+from ._natural_frequency import plot_natural_frequency
+
+__all__ = ["plot_backbone", "plot_hysteresis", "plot_natural_frequency"]

@@ -1,0 +1,134 @@
+"""The analytic frequency response against the RK4 steady state of Eq. 2.6.
+
+Two independent routes: the compiled perturbation series (roots of the
+frequency equation, App of the reconstructed u(t)) and a fixed-step RK4 of the
+Eq. 2.6 model (``numerics.simulate``), run to a steady state from rest.
+"""
+
+import numpy as np
+import pytest
+
+from numerics import simulate
+from perturb import EQ_2_6, PAPER_F_N0_HZ, ContactModel, frequency_response
+from perturb._response import eq26_values
+
+VALUES = eq26_values()
+PA_FRAC = 0.05
+# Away from the peaks; on the primary peak (1440-1480 Hz: one response; 1420 Hz:
+# on the bent part, three); on the 1/2 superharmonic peak near f_n0 / 2.
+AWAY = [300.0, 450.0, 600.0, 1000.0, 1200.0, 1700.0]
+PRIMARY = [1420.0, 1440.0, 1460.0, 1480.0]
+
+
+@pytest.fixture(scope="module")
+def superharmonic_peak_hz():
+    """Where the analytic App has its local maximum near f_n0 / 2."""
+    f = np.linspace(0.45 * PAPER_F_N0_HZ, 0.55 * PAPER_F_N0_HZ, 401)
+    (branch,) = frequency_response(f, PA_FRAC, 6).branches
+    return float(f[np.argmax(branch.app_m)])
+
+
+@pytest.fixture(scope="module")
+def rk4(superharmonic_peak_hz):
+    f = np.array(AWAY + PRIMARY + [superharmonic_peak_hz])
+    res = simulate(
+        f,
+        PA_FRAC * VALUES.Q_n,
+        periods=800,
+        steps_per_period=256,
+        model=ContactModel(effects=EQ_2_6),
+        record=("final", "minmax"),
+    )
+    assert not np.any(res.failed)
+    return dict(zip(f.tolist(), (res.ymax - res.ymin).tolist()))
+
+
+def closest_branch_app(response, f_hz, target):
+    candidates = []
+    for branch in response.branches:
+        hit = np.flatnonzero(branch.frequency_hz == f_hz)
+        if hit.size:
+            candidates.append((branch.app_m[hit[0]], bool(branch.valid[hit[0]])))
+    return min(candidates, key=lambda c: abs(c[0] - target))
+
+
+def check(rk4, frequencies, order=6):
+    response = frequency_response(np.array(frequencies), PA_FRAC, order)
+    for f in frequencies:
+        app, valid = closest_branch_app(response, f, rk4[f])
+        assert valid, f
+        assert abs(app / rk4[f] - 1) < 0.01, f"{f} Hz: series {app:.5e}, RK4 {rk4[f]:.5e}"
+
+
+def test_away_from_peaks(rk4):
+    check(rk4, AWAY)
+
+
+def test_on_primary_peak(rk4):
+    check(rk4, PRIMARY)
+
+
+def test_on_half_superharmonic_peak(rk4, superharmonic_peak_hz):
+    assert abs(superharmonic_peak_hz / (PAPER_F_N0_HZ / 2) - 1) < 0.03
+    check(rk4, [superharmonic_peak_hz])
+
+
+def test_error_falls_with_order_on_primary_peak(rk4):
+    errors = []
+    for order in (2, 4, 6):
+        response = frequency_response(np.array([1440.0]), PA_FRAC, order)
+        app, _ = closest_branch_app(response, 1440.0, rk4[1440.0])
+        errors.append(abs(app / rk4[1440.0] - 1))
+    assert errors[0] > errors[1] > errors[2], errors
+
+
+def test_bent_primary_peak_has_three_responses():
+    response = frequency_response(np.array([1300.0, 1420.0, 1600.0]), PA_FRAC, 6)
+    assert response.roots_per_frequency().tolist() == [1, 3, 1]
+
+
+def has_local_peak(order, m, pa_frac=0.5):
+    """Whether branch 0 has a local maximum of App within 0.9..1.06 f_n0 / m."""
+    f = np.linspace(0.9 * PAPER_F_N0_HZ / m, 1.06 * PAPER_F_N0_HZ / m, 65)
+    app = frequency_response(f, pa_frac, order).branches[0].app_m
+    inner = int(np.argmax(app))
+    return 0 < inner < f.size - 1
+
+
+@pytest.mark.parametrize("m", [2, 3, 4, 5])
+def test_superharmonic_peaks_appear_at_f_n0_over_m(m):
+    # Order N carries harmonics up to N + 1, so its peaks reach f_n0 / (N + 1).
+    assert has_local_peak(4, m)
+    if m > 3:
+        assert not has_local_peak(2, m)
+
+
+def test_contact_loss_is_flagged():
+    # Near the peak at 0.30 Q the slider leaves the slideway (Fig. 3): y0 + min u < 0.
+    response = frequency_response(np.linspace(1100.0, 1500.0, 81), 0.30, 6)
+    for branch in response.branches:
+        lost = VALUES.y0_m + branch.u_min_m <= 0
+        assert not np.any(branch.valid & lost)
+    assert any(np.any(VALUES.y0_m + b.u_min_m <= 0) for b in response.branches)
+
+
+def test_json_shape():
+    data = frequency_response(np.array([500.0, 1420.0]), PA_FRAC, 4).as_json()
+    assert set(data) == {"order", "pa_frac", "branches"}
+    keys = {"frequency_hz", "app_m", "a0_m", "omega_rad_s", "valid"}
+    assert all(set(branch) == keys for branch in data["branches"])
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"frequencies_hz": [100.0], "pa_frac": -0.1}, "`pa_frac`"),
+        ({"frequencies_hz": [200.0, 100.0], "pa_frac": 0.1}, "`frequencies_hz`"),
+        ({"frequencies_hz": [], "pa_frac": 0.1}, "`frequencies_hz`"),
+        ({"frequencies_hz": [100.0], "pa_frac": 0.1, "order": -2}, "`order`"),
+        ({"frequencies_hz": [100.0], "pa_frac": 0.1, "omega_range": (1.2, 0.6)}, "`omega_range`"),
+    ],
+)
+def test_bad_input(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        frequency_response(**kwargs)

@@ -6,18 +6,24 @@ scene asks for; see ``simulate``.
 
 from ._backbone import Backbone, exact_backbone
 from ._codegen import acceleration_source, compiled_kernels
+from ._hysteresis import HysteresisLoop, hysteresis_loop
+from ._natural_frequency import HeightSweep, natural_frequency_vs_height
 from ._result import Simulation
 from ._simulate import drive_table, simulate, static_deflection
 from ._validate import RECORDABLE
 
 __all__ = [
     "Backbone",
+    "HeightSweep",
+    "HysteresisLoop",
     "RECORDABLE",
     "Simulation",
     "acceleration_source",
     "compiled_kernels",
     "drive_table",
     "exact_backbone",
+    "hysteresis_loop",
+    "natural_frequency_vs_height",
     "simulate",
     "static_deflection",
 ]

@@ -27,7 +27,6 @@ parabola, in closed form.
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 
@@ -216,7 +215,9 @@ def _default_compressions(y0: float, points: int) -> np.ndarray:
 def _check_compressions(u_max_m) -> np.ndarray:
     u = np.atleast_1d(np.asarray(u_max_m, dtype=float))
     if u.ndim != 1 or u.size == 0 or not np.all(np.isfinite(u) & (u > 0)):
-        raise ValueError(f"`u_max_m` must be a non-empty 1-d array of finite values > 0, got {u_max_m!r}.")
+        raise ValueError(
+            f"`u_max_m` must be a non-empty 1-d array of finite values > 0, got {u_max_m!r}."
+        )
     return u
 
 

@@ -152,7 +152,8 @@ def hysteresis_loop(
     phase = run.history_phase[:steps]
     dt = 1 / (steps * run.f_e_hz[0])
     return HysteresisLoop(
-        f_e_hz=float(run.f_e_hz[0]), p_a_n=p_a, p_a_frac=float(p_a_frac), phase=phase, y_m=y, v_m_s=v,
+        f_e_hz=float(run.f_e_hz[0]), p_a_n=p_a, p_a_frac=float(p_a_frac), phase=phase,
+        y_m=y, v_m_s=v,
         reaction_n=r, damping_n=damping, pressure_pa=-r / model.parameters.S,
         loop_area_j=_shoelace(y, r),
         # Periodic samples: the rectangle rule is the trapezoidal rule here.

@@ -103,7 +103,9 @@ def natural_frequency_vs_height(
         height_m = np.linspace(0.005, 0.15, int(points))
     heights = np.atleast_1d(np.asarray(height_m, dtype=float))
     if heights.ndim != 1 or heights.size == 0 or not np.all(np.isfinite(heights) & (heights > 0)):
-        raise ValueError(f"`height_m` must be a non-empty 1-d array of values > 0, got {height_m!r}.")
+        raise ValueError(
+            f"`height_m` must be a non-empty 1-d array of values > 0, got {height_m!r}."
+        )
     density = steel_density()
     mass = density * parameters.S * heights
     return HeightSweep(

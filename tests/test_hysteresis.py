@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from numerics._hysteresis import hysteresis_loop
+from numerics import hysteresis_loop
 
 # The caption of Fig. 5: f_e = 1600 Hz, P_a = 0.40 Q.
 FIG5 = (1600.0, 0.40)

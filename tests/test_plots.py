@@ -5,9 +5,7 @@ import sys
 
 import numpy as np
 
-from numerics import exact_backbone
-from numerics._hysteresis import hysteresis_loop
-from numerics._natural_frequency import natural_frequency_vs_height
+from numerics import exact_backbone, hysteresis_loop, natural_frequency_vs_height
 from numerics.plots import plot_backbone, plot_hysteresis, plot_natural_frequency
 
 

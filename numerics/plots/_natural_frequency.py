@@ -28,7 +28,8 @@ def plot_natural_frequency(sweep: HeightSweep, path: str | Path | None = None) -
             label=f"paper: {sweep.paper_height_m * 1e3:g} mm cube, {sweep.paper_f_n0_hz:g} Hz")
     ax.set_xlabel("height of the body $h_b$ [mm]")
     ax.set_ylabel("natural frequency $f_n$ [Hz]")
-    ax.set_title(f"Fig. 4: steel bodies ($\\rho$ = {sweep.density_kg_m3:.0f} kg/m$^3$) on the contact")
+    density = f"$\\rho$ = {sweep.density_kg_m3:.0f} kg/m$^3$"
+    ax.set_title(f"Fig. 4: steel bodies ({density}) on the contact")
     ax.set_xlim(0, None)
     ax.legend()
     return finish(figure, path)

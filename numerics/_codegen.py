@@ -25,7 +25,7 @@ __all__ = ["compiled_kernels", "acceleration_source", "cache_dir"]
 
 _FORCE = sp.Symbol("force", real=True)
 _TEMPLATE = Path(__file__).with_name("_kernel_template.py")
-_LOADED: dict[str, ModuleType] = {}
+_LOADED: dict[tuple, ModuleType] = {}
 _LOCK = threading.Lock()
 
 
@@ -95,23 +95,35 @@ def _module_source(model: ContactModel) -> str:
     )
 
 
+def _cache_key(model: ContactModel) -> str:
+    """A key for the model's kernels that needs no sympy work: the parameters and
+    effects, and the text of every file that shapes the generated source."""
+    import perturb
+
+    shaping = [Path(perturb.__file__).parent / f for f in
+               ("_model.py", "_effects.py", "_parameters.py", "_symbols.py")]
+    shaping += [Path(__file__), _TEMPLATE]
+    text = repr((model.parameters, model.effects, sp.__version__))
+    text += "".join(path.read_text() for path in shaping)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
 def compiled_kernels(model: ContactModel) -> ModuleType:
     """The compiled kernel module of ``model`` (generated once, then cached)."""
-    source = _module_source(model)
-    key = hashlib.sha256(source.encode()).hexdigest()[:16]
+    memo = (model.parameters, model.effects)
     with _LOCK:
-        if key not in _LOADED:
-            _LOADED[key] = _load(key, source)
-        return _LOADED[key]
+        if memo not in _LOADED:
+            _LOADED[memo] = _load(_cache_key(model), model)
+        return _LOADED[memo]
 
 
-def _load(key: str, source: str) -> ModuleType:
+def _load(key: str, model: ContactModel) -> ModuleType:
     folder = cache_dir()
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / f"kernel_{key}.py"
-    if not path.exists() or path.read_text() != source:
+    if not path.exists():
         tmp = path.with_suffix(f".tmp{os.getpid()}")
-        tmp.write_text(source)
+        tmp.write_text(_module_source(model))
         tmp.replace(path)  # atomic, so that parallel processes never read half a file
     name = f"_contact_kernel_{key}"
     spec = importlib.util.spec_from_file_location(name, path)

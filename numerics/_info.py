@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 from perturb import ContactModel, Eq26
 
 __all__ = ["model_info", "format_info"]
@@ -19,7 +21,12 @@ _DESCRIPTIONS = {
 
 def model_info(model: ContactModel | None = None) -> dict[str, float]:
     """The figures of Eq. 2.6 for the model (the paper's by default)."""
-    return Eq26(model).numeric()
+    return dict(_figures((model or ContactModel()).parameters))
+
+
+@lru_cache(maxsize=64)
+def _figures(parameters) -> tuple:
+    return tuple(Eq26(ContactModel(parameters)).numeric().items())
 
 
 def format_info(info: dict[str, float]) -> str:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from functools import lru_cache
 
 import numpy as np
 
@@ -22,6 +23,12 @@ def drive_table(steps_per_period: int) -> np.ndarray:
 
 def static_deflection(model: ContactModel) -> float:
     """y0 of the model [m], the default initial state."""
+    return _static_deflection_m(model.parameters)
+
+
+@lru_cache(maxsize=64)
+def _static_deflection_m(parameters) -> float:
+    model = ContactModel(parameters)
     return model.numeric(model.static_deflection)
 
 

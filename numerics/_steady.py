@@ -37,6 +37,8 @@ _NEWTON_ITERATIONS = 10
 _SPAN_FLOOR = 1e-3  # of y0: the smallest length scale of the settling test
 _REACH_CONTINUATION = 0.5  # how far (relative to App) Newton may move a sweep's guess
 _REACH_POLISH = 1e-2  # how far it may move a marched, settled state
+_VERIFY_PERIODS = 16  # march that confirms a continued orbit attracts the previous state
+_VERIFY_SHRINK = 0.5  # by how much the distance to that orbit must shrink meanwhile
 
 
 @dataclass
@@ -146,6 +148,25 @@ class _Batch:
         moved = self.distance(lanes, y - y_start, v - v_start, np.maximum(span, _SPAN_FLOOR * scale))
         near = np.isfinite(moved) & (moved < reach)
         return converged & near & _stable(multipliers), y, v, multipliers
+
+    def follows(self, lanes, y, v, y_orbit, v_orbit, p, span):
+        """Whether time marching from (y, v) approaches the orbit through (y_orbit, v_orbit).
+
+        Newton can continue a stable orbit whose basin no longer holds the
+        previous point's state (bouncing orbits, near a fold); the paper's method
+        would jump there. A short march decides, as the paper's method would.
+        """
+        n = len(lanes)
+        periods = _VERIFY_PERIODS - _VERIFY_PERIODS % p
+        sy, sv = np.empty((n, periods)), np.empty((n, periods))
+        ym, vm, spans = y.copy(), v.copy(), np.empty(n)
+        self.kernels.strobe_periods(ym, vm, self.dt[lanes], self.p_a[lanes], self.drive, periods,
+                                    sy, sv, spans, np.full(n, -1, dtype=np.int64), 0)
+        self.periods_run[lanes] += periods
+        scale = np.maximum(span, _SPAN_FLOOR * self.length)
+        before = self.distance(lanes, y - y_orbit, v - v_orbit, scale)
+        after = self.distance(lanes, ym - y_orbit, vm - v_orbit, scale)
+        return (after < _VERIFY_SHRINK * before) | (after < self.tol)
 
     def march(self, lanes, y, v, max_periods, failed_period):
         """Time-march lanes until their stroboscopic state repeats; lanes stop when settled.
@@ -308,6 +329,8 @@ def steady_states(
             group = np.flatnonzero(guess == p)
             ok, yn, vn, mult = batch.newton(group, y[group], v[group], int(p), span[group],
                                             _REACH_CONTINUATION)
+            ok[ok] = batch.follows(group[ok], y[group][ok], v[group][ok], yn[ok], vn[ok], int(p),
+                                   span[group][ok])
             state.accept(group[ok], yn[ok], vn[ok], int(p), mult[ok], "newton")
     rest = np.flatnonzero(~state.settled)
     if rest.size:

@@ -6,7 +6,7 @@ both generated from the expressions built here.
 
 from __future__ import annotations
 
-from functools import cached_property
+from functools import cache, cached_property
 
 import sympy as sp
 
@@ -21,6 +21,13 @@ def exact_number(value: float) -> sp.Expr:
     """A sympy number for a parameter value: exact for integer and decimal exponents."""
     rational = sp.Rational(repr(float(value)))
     return sp.Integer(rational) if rational.q == 1 else rational
+
+
+@cache
+def _static_deflection() -> sp.Expr:
+    # Solved once: the expression does not depend on the parameter values.
+    (root,) = sp.solve(sp.Eq(S * c_n * y**m2, M * g), y)
+    return root
 
 
 class ContactModel:
@@ -80,11 +87,10 @@ class ContactModel:
         return float(sp.N(sp.sympify(expr).subs(self.values), 17))
 
     # -- Eq. 2.1: the contact laws ----------------------------------------
-    @cached_property
+    @property
     def static_deflection(self) -> sp.Expr:
         """y0 = delta0, where the spring carries the weight: S c_n y0^m2 = M g."""
-        (root,) = sp.solve(sp.Eq(S * c_n * y**m2, M * g), y)
-        return root
+        return _static_deflection()
 
     @staticmethod
     def power_spring(deflection: sp.Expr) -> sp.Expr:

@@ -61,7 +61,11 @@ def _backbone(args: argparse.Namespace) -> None:
     for k, q in enumerate(series.coefficients):
         print(f"  c_{k} = {q}")
     if args.json:
-        data = {"order": series.order, "amplitude": "first-harmonic", "coefficients": series.as_strings()}
+        data = {
+            "order": series.order,
+            "amplitude": "first-harmonic",
+            "coefficients": series.as_strings(),
+        }
         _write_json(args.json, data)
         _progress(args, f"wrote {args.json}")
 
@@ -74,13 +78,18 @@ def _response(args: argparse.Namespace) -> None:
     _progress(args, f"done in {time.perf_counter() - start:.2f} s")
     print(response)
     for j, branch in enumerate(response.branches):
-        best = int(np.argmax(np.where(branch.valid, branch.app_m, -np.inf))) if branch.valid.any() else None
+        best = (
+            int(np.argmax(np.where(branch.valid, branch.app_m, -np.inf)))
+            if branch.valid.any()
+            else None
+        )
         peak = (
             f"largest valid App {branch.app_m[best]:.4g} m at {branch.frequency_hz[best]:.6g} Hz"
             if best is not None
             else "no valid point"
         )
-        print(f"  branch {j}: {branch.frequency_hz.size} points, {int(branch.valid.sum())} valid, {peak}")
+        counts = f"{branch.frequency_hz.size} points, {int(branch.valid.sum())} valid"
+        print(f"  branch {j}: {counts}, {peak}")
     if args.json:
         _write_json(args.json, response.as_json())
         _progress(args, f"wrote {args.json}")
@@ -90,7 +99,9 @@ def _order(text: str) -> int:
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"`--order` must be an integer >= 0, got {text!r}.") from None
+        raise argparse.ArgumentTypeError(
+            f"`--order` must be an integer >= 0, got {text!r}."
+        ) from None
     if value < 0:
         raise argparse.ArgumentTypeError(f"`--order` must be an integer >= 0, got {text!r}.")
     return value

@@ -112,7 +112,9 @@ class CompiledSeries:
 
     def evaluate(self, A0, omega, Omega, c, h, *, until: str | None = None) -> dict:
         """Run the chain; return every assigned value by name (z_n_k complex)."""
-        env = dict(zip(self.arguments, np.broadcast_arrays(*map(np.asarray, (A0, omega, Omega, c, h)))))
+        env = dict(
+            zip(self.arguments, np.broadcast_arrays(*map(np.asarray, (A0, omega, Omega, c, h))))
+        )
         env["z_0_1"] = env["zc_0_1"] = env["A_0_1"] = env["A0"]
         for step in self.steps:
             value = step.function(*(env[name] for name in step.inputs))

@@ -88,7 +88,9 @@ class Term:
 
     def phase(self) -> sp.Expr:
         """The phase inside the cosine (a sum of +-phi_n_k)."""
-        return sp.Add(*(f.sign * sym.phase(f.order, f.harmonic) for f in self.factors if not f.is_mean))
+        return sp.Add(
+            *(f.sign * sym.phase(f.order, f.harmonic) for f in self.factors if not f.is_mean)
+        )
 
     # -- the complex form ----------------------------------------------
     def value(self, conjugate: bool = False) -> sp.Expr:

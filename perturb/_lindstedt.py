@@ -16,7 +16,7 @@ Examples
 --------
 >>> series = derive(4)
 >>> series
-Series(order=4, b=[0, b_2, 0, b_4], harmonics={0: (1,), 1: (0, 2), 2: (1, 3), 3: (0, 2, 4), 4: (1, 3, 5)})
+Series(order=4, b=[0, b_2, 0, b_4], harmonics=[(1,), (0, 2), (1, 3), (0, 2, 4), (1, 3, 5)])
 >>> series.b_closed_form(2)
 2*A_1_0*h + A_1_2*h*cos(2*phi_0_1 - phi_1_2)
 """
@@ -42,7 +42,9 @@ def transfer(k: int) -> sp.Expr:
 
 def gain_closed_form(k: int) -> sp.Expr:
     """H_k = |transfer(k)|."""
-    return 1 / sp.sqrt((sym.omega**2 - k**2 * sym.Omega**2) ** 2 + 4 * k**2 * sym.c**2 * sym.Omega**2)
+    return 1 / sp.sqrt(
+        (sym.omega**2 - k**2 * sym.Omega**2) ** 2 + 4 * k**2 * sym.c**2 * sym.Omega**2
+    )
 
 
 def lag_closed_form(k: int) -> sp.Expr:
@@ -179,9 +181,7 @@ class Series:
 
     def solution(self, n: int) -> sp.Expr:
         """u_n = sum_k A_n_k cos(k Omega t + phi_n_k)."""
-        return sp.Add(
-            *(solution_term(n, k).printed() for k in self.harmonics(n))
-        )
+        return sp.Add(*(solution_term(n, k).printed() for k in self.harmonics(n)))
 
     def omega_squared(self) -> sp.Expr:
         """omega^2 = omega0^2 + sum eps^n b_n, the non-zero b only (Eq. 2.7)."""
@@ -191,7 +191,7 @@ class Series:
 
     def __repr__(self) -> str:
         bs = [sym.b(n) if self.has_b(n) else 0 for n in range(1, self.order + 1)]
-        harmonics = {n: self.harmonics(n) for n in range(self.order + 1)}
+        harmonics = [self.harmonics(n) for n in range(self.order + 1)]
         return f"Series(order={self.order}, b={bs}, harmonics={harmonics})"
 
 

@@ -99,7 +99,8 @@ PAPER_NAME_ORDERS: dict[str, int] = {
 PAPER_DIFFERENCES: tuple[dict[str, str], ...] = (
     {
         "where": "Eq. 2.10, u2",
-        "printed": "... + A6 cos(6 pi f_e t + 3 phi0 + phi1 + phi2) = A7 cos(2 pi f_e t + 2 phi0) + ...",
+        "printed": "... + A6 cos(6 pi f_e t + 3 phi0 + phi1 + phi2)"
+        " = A7 cos(2 pi f_e t + 2 phi0) + ...",
         "derived": "u2 = A7 cos(Omega t + 2 phi0) + A5 cos(Omega t + 2 phi0 + phi1)"
         " + A6 cos(3 Omega t + 3 phi0 + phi1 + phi2), with A7 = A3 + A4",
         "reason": "The '=' joins the sum of four terms to its regrouped form in the "

@@ -150,7 +150,9 @@ def latex_report(series: Series) -> str:
         out.append(r"\end{align*}")
     out.append(r"\begin{align*}")
     out.append(
-        "\\\\\n".join(rf"{_latex(left)} &= {_latex(right)}" for left, right in _transfer_lines(series))
+        "\\\\\n".join(
+            rf"{_latex(left)} &= {_latex(right)}" for left, right in _transfer_lines(series)
+        )
     )
     out.append(r"\end{align*}")
     return "\n".join(out) + "\n"

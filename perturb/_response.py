@@ -299,7 +299,9 @@ def frequency_response(
 def _branches(freq, rows, roots, a0, u_min, u_max, valid) -> list[Branch]:
     """Sort the roots of each frequency by decreasing omega; branch j = j-th root."""
     order = np.lexsort((-roots, rows))
-    rows, roots, a0, u_min, u_max, valid = (a[order] for a in (rows, roots, a0, u_min, u_max, valid))
+    rows, roots, a0, u_min, u_max, valid = (
+        a[order] for a in (rows, roots, a0, u_min, u_max, valid)
+    )
     rank = np.arange(rows.size) - np.searchsorted(rows, rows)
     branches = []
     for j in range(int(rank.max()) + 1 if rank.size else 0):

@@ -41,7 +41,9 @@ t = sp.Symbol("t", real=True)
 @lru_cache(maxsize=None)
 def amplitude(n: int, k: int) -> sp.Symbol:
     """A_n_k; a mean (k = 0) is signed, other amplitudes are >= 0."""
-    return sp.Symbol(f"A_{n}_{k}", real=True) if k == 0 else sp.Symbol(f"A_{n}_{k}", nonnegative=True)
+    return (
+        sp.Symbol(f"A_{n}_{k}", real=True) if k == 0 else sp.Symbol(f"A_{n}_{k}", nonnegative=True)
+    )
 
 
 @lru_cache(maxsize=None)

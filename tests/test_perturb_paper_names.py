@@ -43,37 +43,62 @@ def paper(A0, w, W, c, h):
     phi2 = p["phi2"] = th[3]
     # Eq. A.1, right side by harmonic
     R0 = (
-        b2 * A2 - h * A0 * A7 * np.cos(phi0) - h * A0 * A5 * np.cos(phi0 + phi1)
-        - 0.5 * h * A1**2 - h * A2**2
+        b2 * A2
+        - h * A0 * A7 * np.cos(phi0)
+        - h * A0 * A5 * np.cos(phi0 + phi1)
+        - 0.5 * h * A1**2
+        - h * A2**2
     )
     R2 = (
-        b2 * A1 * e(2 * phi0 + phi1) - h * A0 * A7 * e(3 * phi0)
-        - h * A0 * A5 * e(3 * phi0 + phi1) - h * A0 * A6 * e(2 * phi0 + phi1 + phi2)
+        b2 * A1 * e(2 * phi0 + phi1)
+        - h * A0 * A7 * e(3 * phi0)
+        - h * A0 * A5 * e(3 * phi0 + phi1)
+        - h * A0 * A6 * e(2 * phi0 + phi1 + phi2)
         - 2 * h * A1 * A2 * e(2 * phi0 + phi1)
     )
     R4 = -h * A0 * A6 * e(4 * phi0 + phi1 + phi2) - 0.5 * h * A1**2 * e(4 * phi0 + 2 * phi1)
-    p["A8"], p["A9"], p["phi3"], p["A10"], p["phi4"] = R0, abs(R2), np.angle(R2), abs(R4), np.angle(R4)
+    p["A8"], p["A9"], p["phi3"], p["A10"], p["phi4"] = (
+        R0,
+        abs(R2),
+        np.angle(R2),
+        abs(R4),
+        np.angle(R4),
+    )
     A11 = p["A11"] = R0 / w**2
     A12, A13 = p["A12"], p["A13"] = p["A9"] * H[2], p["A10"] * H[4]
     phi3, phi4, phi5 = p["phi3"], p["phi4"], th[4]
     p["phi5"] = phi5
     # Eq. A.2: b4 as printed, then the right side by harmonic
     p["b4"] = -(1 / A0) * (
-        b2 * A7 * np.cos(phi0) + b2 * A5 * np.cos(phi0 + phi1) - 2 * h * A0 * A11 * np.cos(0)
-        - h * A0 * A12 * np.cos(-2 * phi0 + phi1 + phi3) - h * A1 * A7 * np.cos(-phi0 + phi1)
-        - h * A1 * A5 * np.cos(-phi0) - h * A1 * A6 * np.cos(phi2)
-        - 2 * h * A2 * A7 * np.cos(phi0) - 2 * h * A2 * A5 * np.cos(phi0 + phi1)
+        b2 * A7 * np.cos(phi0)
+        + b2 * A5 * np.cos(phi0 + phi1)
+        - 2 * h * A0 * A11 * np.cos(0)
+        - h * A0 * A12 * np.cos(-2 * phi0 + phi1 + phi3)
+        - h * A1 * A7 * np.cos(-phi0 + phi1)
+        - h * A1 * A5 * np.cos(-phi0)
+        - h * A1 * A6 * np.cos(phi2)
+        - 2 * h * A2 * A7 * np.cos(phi0)
+        - 2 * h * A2 * A5 * np.cos(phi0 + phi1)
     )
     R1 = (
-        b2 * A7 * e(2 * phi0) + b2 * A5 * e(2 * phi0 + phi1) + p["b4"] * A0 * e(phi0)
-        - 2 * h * A0 * A11 * e(phi0) - h * A0 * A12 * e(-phi0 + phi1 + phi3)
-        - h * A1 * A7 * e(phi1) - h * A1 * A5 * e(0) - h * A1 * A6 * e(phi0 + phi2)
-        - 2 * h * A2 * A7 * e(2 * phi0) - 2 * h * A2 * A5 * e(2 * phi0 + phi1)
+        b2 * A7 * e(2 * phi0)
+        + b2 * A5 * e(2 * phi0 + phi1)
+        + p["b4"] * A0 * e(phi0)
+        - 2 * h * A0 * A11 * e(phi0)
+        - h * A0 * A12 * e(-phi0 + phi1 + phi3)
+        - h * A1 * A7 * e(phi1)
+        - h * A1 * A5 * e(0)
+        - h * A1 * A6 * e(phi0 + phi2)
+        - 2 * h * A2 * A7 * e(2 * phi0)
+        - 2 * h * A2 * A5 * e(2 * phi0 + phi1)
     )
     R3 = (
-        b2 * A6 * e(3 * phi0 + phi1 + phi2) - h * A0 * A12 * e(phi0 + phi1 + phi3)
-        - h * A0 * A13 * e(-phi0 + phi4 + phi5) - h * A1 * A7 * e(4 * phi0 + phi1)
-        - h * A1 * A5 * e(4 * phi0 + 2 * phi1) - 2 * h * A2 * A6 * e(3 * phi0 + phi1 + phi2)
+        b2 * A6 * e(3 * phi0 + phi1 + phi2)
+        - h * A0 * A12 * e(phi0 + phi1 + phi3)
+        - h * A0 * A13 * e(-phi0 + phi4 + phi5)
+        - h * A1 * A7 * e(4 * phi0 + phi1)
+        - h * A1 * A5 * e(4 * phi0 + 2 * phi1)
+        - 2 * h * A2 * A6 * e(3 * phi0 + phi1 + phi2)
     )
     R5 = -h * A0 * A13 * e(phi0 + phi4 + phi5) - h * A1 * A6 * e(5 * phi0 + 2 * phi1 + phi2)
     for name, R in (("6", R1), ("7", R3), ("8", R5)):

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from perturb.__main__ import main
 from perturb import compile_series, derive, latex_report, series_json, text_report
+from perturb.__main__ import main
 from perturb._response import eq26_values
 
 
@@ -86,8 +86,20 @@ def test_cli_backbone_json(tmp_path):
 def test_cli_response_json(tmp_path):
     out = tmp_path / "r.json"
     done = run_cli(
-        "response", "--order", "4", "--pa-frac", "0.05", "--fmin", "250", "--fmax", "1800",
-        "--points", "32", "--json", str(out), "--quiet",
+        "response",
+        "--order",
+        "4",
+        "--pa-frac",
+        "0.05",
+        "--fmin",
+        "250",
+        "--fmax",
+        "1800",
+        "--points",
+        "32",
+        "--json",
+        str(out),
+        "--quiet",
     )
     assert done.returncode == 0, done.stderr
     data = json.loads(out.read_text())

@@ -50,7 +50,7 @@ def test_b2_closed_form_by_hand():
     }
     b2 = series.b_closed_form(2).xreplace(closed)
     detuning = sym.omega**2 - 4 * sym.Omega**2
-    by_hand = -sym.h**2 * a0**2 / sym.omega**2 - sym.h**2 * a0**2 / 2 * detuning / (
+    by_hand = -(sym.h**2) * a0**2 / sym.omega**2 - sym.h**2 * a0**2 / 2 * detuning / (
         detuning**2 + 16 * sym.c**2 * sym.Omega**2
     )
     difference = sp.simplify(sp.expand_trig(b2 - by_hand))
@@ -120,7 +120,7 @@ def _numeric_residual(order, scale):
     u = np.zeros_like(theta)
     du = np.zeros_like(theta)
     ddu = np.zeros_like(theta)
-    for (n, k), z in zip(formulas.keys, amplitudes):
+    for (_, k), z in zip(formulas.keys, amplitudes):
         wave = complex(z) * np.exp(1j * k * theta)
         u += wave.real
         du += (1j * k * Omega * wave).real

@@ -62,14 +62,21 @@ def sympy_backbone(order: int) -> list[sp.Rational]:
 def bench_backbone() -> None:
     header("backbone series omega/omega0(alpha), exact rationals (targets: 1 s, 5 s)")
     for order in (8, 16):
-        ours = median_time(lambda: backbone_series.__wrapped__(order), repeats=5)
+        ours = median_time(lambda n=order: backbone_series.__wrapped__(n), repeats=5)
         start = time.perf_counter()
         reference = sympy_backbone(order)
         baseline = time.perf_counter() - start
-        same = [sp.Rational(q.numerator, q.denominator) for q in backbone_series(order).coefficients]
+        same = [
+            sp.Rational(q.numerator, q.denominator) for q in backbone_series(order).coefficients
+        ]
         assert same == reference, "coefficients differ from the sympy route"
-        row(f"order {order} [s] vs general sympy (equal coefficients)", ours, baseline, "s",
-            higher_is_better=False)
+        row(
+            f"order {order} [s] vs general sympy (equal coefficients)",
+            ours,
+            baseline,
+            "s",
+            higher_is_better=False,
+        )
     print("quoted (issue 4, not run): oscilate order 8 ~34 s; asymptotics order 16 ~37 s")
 
 
@@ -87,7 +94,9 @@ def bench_derivation() -> None:
     _derive_everything(4)
     cold = time.perf_counter() - start
     cached = median_time(lambda: (derive(4), compile_series(4)), repeats=5)
-    row("cold: derive + closed forms + compile [s] vs 10 s", cold, 10.0, "s", higher_is_better=False)
+    row(
+        "cold: derive + closed forms + compile [s] vs 10 s", cold, 10.0, "s", higher_is_better=False
+    )
     row("cached second call [s] vs cold", cached, cold, "s", higher_is_better=False)
 
 
@@ -101,16 +110,27 @@ def bench_response() -> None:
     for f in sample:
         frequency_response(np.array([f]), 0.05, 6)
     loop = (time.perf_counter() - start) * frequencies.size / sample.size
-    row("10,000 frequencies [s] vs one frequency at a time", vectorised, loop, "s",
-        higher_is_better=False)
+    row(
+        "10,000 frequencies [s] vs one frequency at a time",
+        vectorised,
+        loop,
+        "s",
+        higher_is_better=False,
+    )
     row("error vs RK4 of Eq. 2.6 at 0.05 Q (max rel.)", _accuracy())
 
 
 def _accuracy() -> float:
     values = eq26_values()
     f = np.array([300.0, 740.0, 1000.0, 1440.0, 1480.0, 1700.0])
-    rk4 = simulate(f, 0.05 * values.Q_n, periods=800, steps_per_period=256,
-                   model=ContactModel(effects=EQ_2_6), record=("final", "minmax"))
+    rk4 = simulate(
+        f,
+        0.05 * values.Q_n,
+        periods=800,
+        steps_per_period=256,
+        model=ContactModel(effects=EQ_2_6),
+        record=("final", "minmax"),
+    )
     target = rk4.ymax - rk4.ymin
     response = frequency_response(f, 0.05, 6)
     errors = []

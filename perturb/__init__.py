@@ -8,12 +8,15 @@ compiled (``compile_series``) and solved for the frequency response
 (``frequency_response``); ``backbone_series`` gives the free backbone exactly.
 """
 
+from . import _series_symbols as series_symbols
+from . import _symbols as symbols
 from ._backbone_series import BackboneSeries, backbone_series
 from ._compiled import CompiledSeries, compile_series
 from ._effects import EQ_2_6, FULL, LINEAR, Effects
 from ._eq26 import Eq26
 from ._lindstedt import Series, derive
 from ._model import ContactModel
+from ._paper_names import PAPER_DIFFERENCES, PAPER_NAMES, paper_names
 from ._parameters import (
     PAPER,
     PAPER_BAND_HZ,
@@ -21,11 +24,8 @@ from ._parameters import (
     PAPER_PANEL_FRACTIONS,
     ContactParameters,
 )
-from ._paper_names import PAPER_DIFFERENCES, PAPER_NAMES, paper_names
 from ._printing import latex_report, series_json, text_report
 from ._response import Branch, Response, frequency_response
-from . import _series_symbols as series_symbols
-from . import _symbols as symbols
 
 __all__ = [
     "BackboneSeries",

@@ -13,10 +13,10 @@ by the Illinois method, all frequencies at once. The peak-to-peak amplitude
 App is max - min of the reconstructed u(t) = sum_n u_n(t).
 
 Each point has a validity flag: false where the response would lose contact
-(y0 + min u <= 0, Eq. 2.1) or where the last orders stop shrinking (the size
-of u_N is not below that of u_(N-2), or that of u_(N-1) not below u_(N-3):
-harmonics alternate in parity between orders, so each parity is compared with
-itself).
+(y0 + min u <= 0, Eq. 2.1) or where the last orders stop shrinking: the size
+of u_N is not below that of u_(N-2), or that of u_(N-1) not below u_(N-3)
+(harmonics alternate in parity between orders, so each parity is compared with
+itself), or u_N and u_(N-1) together are not below ``tolerance`` (1 %) of App.
 
 Examples
 --------
@@ -209,13 +209,19 @@ def _refined_extreme(u: np.ndarray, which) -> np.ndarray:
     return y0 - (ym - yp) * shift / 4
 
 
-def _converging(sizes: np.ndarray) -> np.ndarray:
-    """The last orders of each parity still shrink."""
+def _converging(sizes: np.ndarray, app: np.ndarray, tolerance: float) -> np.ndarray:
+    """The last orders of each parity still shrink, and are small beside App.
+
+    The size of an order is the sum of the magnitudes of its harmonics; the
+    last two orders together estimate the truncation error of App.
+    """
     order = sizes.shape[0] - 1
     ok = np.ones(sizes.shape[1], dtype=bool)
     for n in (order, order - 1):
         if n - 2 >= 0:
             ok &= sizes[n] < sizes[n - 2]
+    if order >= 1:
+        ok &= sizes[order] + sizes[order - 1] < tolerance * app
     return ok
 
 
@@ -239,6 +245,7 @@ def frequency_response(
     omega_range: tuple[float, float] = (0.6, 1.2),
     grid_points: int = 48,
     samples: int = 256,
+    tolerance: float = 0.01,
 ) -> Response:
     """Every response of the order-N series of Eq. 2.6 at each frequency.
 
@@ -260,6 +267,9 @@ def frequency_response(
         every k Omega, k = 1..N+1).
     samples : int
         Samples per period of the reconstructed u(t) for its extrema.
+    tolerance : float
+        A point is valid only if the last two orders together are smaller
+        than ``tolerance`` times App (their size estimates App's error).
 
     Returns
     -------
@@ -269,6 +279,7 @@ def frequency_response(
     freq = _check_frequencies(frequencies_hz)
     pa_frac = check_positive("pa_frac", pa_frac, allow_zero=True)
     order = check_order(order)
+    tolerance = check_positive("tolerance", tolerance)
     if not 0 < omega_range[0] < omega_range[1]:
         raise ValueError(f"`omega_range` must be (lo, hi) with 0 < lo < hi, got {omega_range!r}.")
     values = eq26_values(parameters)
@@ -292,7 +303,7 @@ def frequency_response(
     )
     a0 = G / np.hypot(roots**2 - Omega[rows] ** 2, 2 * values.c * Omega[rows])
     u_max, u_min, sizes = _waveform_extrema(formulas, values, a0, roots, Omega[rows], samples)
-    valid = (values.y0_m + u_min > 0) & _converging(sizes)
+    valid = (values.y0_m + u_min > 0) & _converging(sizes, u_max - u_min, tolerance)
     return Response(order, pa_frac, freq, _branches(freq, rows, roots, a0, u_min, u_max, valid))
 
 

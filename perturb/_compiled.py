@@ -144,6 +144,32 @@ class CompiledSeries:
         env = self.evaluate(A0, omega, Omega, c, h)
         return [env[f"A_{n}_0"] if k == 0 else env[f"z_{n}_{k}"] for n, k in self.keys]
 
+    def harmonics(self, amplitudes: list[np.ndarray]) -> np.ndarray:
+        """sum_n z_n_k for k = 0..K, shape (lanes, K + 1), from ``amplitudes``."""
+        lanes = np.broadcast(*amplitudes).shape
+        top = max(k for _, k in self.keys)
+        total = np.zeros((*lanes, top + 1), dtype=complex)
+        for (_, k), z in zip(self.keys, amplitudes):
+            total[..., k] += z
+        return total
+
+    def waveform(self, theta, A0, omega, Omega, c, h) -> np.ndarray:
+        """The reconstructed u = sum_n u_n at phases ``theta`` = Omega t (phi0 = 0).
+
+        Returns an array of shape ``broadcast(args).shape + theta.shape``.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> u = compile_series(0).waveform(np.array([0.0, np.pi]), 2.0, 1.0, 0.5, 0.1, 0.3)
+        >>> u.tolist()
+        [2.0, -2.0]
+        """
+        theta = np.asarray(theta, dtype=float)
+        per_harmonic = self.harmonics(self.amplitudes(A0, omega, Omega, c, h))
+        basis = np.exp(1j * np.multiply.outer(np.arange(per_harmonic.shape[-1]), theta))
+        return np.tensordot(per_harmonic, basis, axes=1).real
+
 
 @lru_cache(maxsize=None)
 def compile_series(order: int) -> CompiledSeries:

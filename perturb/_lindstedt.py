@@ -183,6 +183,10 @@ class Series:
         """u_n = sum_k A_n_k cos(k Omega t + phi_n_k)."""
         return sp.Add(*(solution_term(n, k).printed() for k in self.harmonics(n)))
 
+    def displacement(self) -> sp.Expr:
+        """u = sum_n eps^n u_n, the reconstructed multiharmonic response (Eq. 2.7)."""
+        return sp.Add(*(sym.eps**n * self.solution(n) for n in range(self.order + 1)))
+
     def omega_squared(self) -> sp.Expr:
         """omega^2 = omega0^2 + sum eps^n b_n, the non-zero b only (Eq. 2.7)."""
         return sym.omega0**2 + sp.Add(

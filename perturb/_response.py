@@ -183,17 +183,14 @@ def _illinois(formulas, values, G, Omega, lo, hi, f_lo, f_hi, iterations=80):
 
 
 def _waveform_extrema(formulas, values, a0, omega, Omega, samples):
-    """min and max of u over a period, and the size of each order's u_n."""
+    """max and min of u over a period, and the size of each order's u_n."""
     amplitudes = formulas.amplitudes(a0, omega, Omega, values.c, values.h)
-    top = max(k for _, k in formulas.keys)
-    per_harmonic = np.zeros((a0.size, top + 1), dtype=complex)
     sizes = np.zeros((formulas.order + 1, a0.size))
-    for (n, k), z in zip(formulas.keys, amplitudes):
-        z = np.broadcast_to(z, a0.shape)
-        per_harmonic[:, k] += z
-        sizes[n] += np.abs(z)
+    for (n, _), z in zip(formulas.keys, amplitudes):
+        sizes[n] += np.abs(np.broadcast_to(z, a0.shape))
+    per_harmonic = formulas.harmonics([np.broadcast_to(z, a0.shape) for z in amplitudes])
     theta = 2 * np.pi * np.arange(samples) / samples
-    basis = np.exp(1j * np.outer(np.arange(top + 1), theta))
+    basis = np.exp(1j * np.outer(np.arange(per_harmonic.shape[-1]), theta))
     u = (per_harmonic @ basis).real
     return _refined_extreme(u, np.max), _refined_extreme(u, np.min), sizes
 

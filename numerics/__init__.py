@@ -4,21 +4,30 @@ The right-hand side is generated from ``perturb.ContactModel`` for the effects a
 scene asks for; see ``simulate``.
 """
 
+from ._attractors import Attractor, Census, attractors
 from ._backbone import Backbone, exact_backbone
 from ._codegen import acceleration_source, compiled_kernels
 from ._hysteresis import HysteresisLoop, hysteresis_loop
 from ._natural_frequency import HeightSweep, natural_frequency_vs_height
 from ._result import Simulation
 from ._simulate import drive_table, simulate, static_deflection
+from ._steady import SteadyStates, steady_states
+from ._sweep import Sweep, SweepRun, sweep
 from ._validate import RECORDABLE
 
 __all__ = [
+    "Attractor",
     "Backbone",
+    "Census",
     "HeightSweep",
     "HysteresisLoop",
     "RECORDABLE",
     "Simulation",
+    "SteadyStates",
+    "Sweep",
+    "SweepRun",
     "acceleration_source",
+    "attractors",
     "compiled_kernels",
     "drive_table",
     "exact_backbone",
@@ -26,4 +35,6 @@ __all__ = [
     "natural_frequency_vs_height",
     "simulate",
     "static_deflection",
+    "steady_states",
+    "sweep",
 ]

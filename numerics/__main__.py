@@ -8,6 +8,7 @@ import sys
 
 from ._backbone import exact_backbone
 from ._backbone_table import format_backbone
+from ._cli_steady import add_attractors_parser, add_sweep_parser
 from ._info import format_info, model_info
 
 
@@ -48,6 +49,8 @@ def build_parser() -> argparse.ArgumentParser:
     backbone.add_argument("--json", metavar="FILE", help="also write the curve as JSON")
     backbone.add_argument("--quiet", action="store_true", help="no progress on stderr")
     backbone.set_defaults(run=_backbone)
+    add_sweep_parser(sub)
+    add_attractors_parser(sub)
     return parser
 
 

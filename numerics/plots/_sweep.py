@@ -1,0 +1,76 @@
+"""Fig. 2 and Fig. 3 drawn from a ``Sweep``: one panel per force amplitude."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from ._figure import finish
+
+__all__ = ["plot_app", "plot_extrema"]
+
+_STYLE = {"up": {"color": "black", "ls": "-", "marker": "."},
+          "down": {"color": "tab:orange", "ls": "--", "marker": "+"}}
+_PANELS = "abcdefghij"
+
+
+def _panels(sweep, title: str):
+    fracs = sorted({r.pa_frac for r in sweep.runs})
+    cols = min(len(fracs), 2)
+    rows = -(-len(fracs) // cols)
+    figure = Figure(figsize=(6.0 * cols, 2.6 * rows), layout="constrained")
+    axes = figure.subplots(rows, cols, squeeze=False, sharex=True)
+    figure.suptitle(title)
+    for ax in axes.ravel()[len(fracs):]:
+        ax.set_visible(False)
+    return figure, fracs, axes.ravel()
+
+
+def _resonance_marks(ax, f_n0: float, fmin: float, fmax: float) -> None:
+    """Plus signs at f_n0 / m (Eq. 3.1), at the bottom of the panel."""
+    m = np.arange(1, 40)
+    marks = f_n0 / m
+    marks = marks[(marks >= fmin) & (marks <= fmax)]
+    ax.plot(marks, np.full(marks.size, 0.04), "+", color="tab:red", ms=8,
+            transform=ax.get_xaxis_transform(), label="f_n0/m")
+
+
+def plot_app(sweep, path=None) -> Figure:
+    """Fig. 2: peak-to-peak amplitude App (log axis) against f_e, sweeps up and down."""
+    figure, fracs, axes = _panels(sweep, "Contact resonances: A_pp against f_e (Fig. 2)")
+    for i, (ax, frac) in enumerate(zip(axes, fracs)):
+        for run in (r for r in sweep.runs if r.pa_frac == frac):
+            f, app = np.asarray(run.frequency_hz), np.asarray(run.app_m)
+            style = _STYLE[run.direction]
+            ax.semilogy(f, app * 1e9, ls=style["ls"], color=style["color"], lw=1,
+                        label=f"sweep {run.direction}")
+            lost = run.contact_lost
+            ax.semilogy(f[lost], app[lost] * 1e9, ".", color=style["color"], ms=2)
+        f_all = np.concatenate([r.frequency_hz for r in sweep.runs])
+        _resonance_marks(ax, sweep.model["f_n0_hz"], f_all.min(), f_all.max())
+        ax.set_title(f"({_PANELS[i % 10]}) P_a = {frac:.2f} Q", fontsize=9, loc="left")
+        ax.set_ylabel("A_pp [nm]")
+        ax.grid(True, which="major", alpha=0.3)
+    axes[0].legend(fontsize=7, loc="upper left")
+    for ax in axes[-2:]:
+        ax.set_xlabel("f_e [Hz]")
+    return finish(figure, path)
+
+
+def plot_extrema(sweep, path=None) -> Figure:
+    """Fig. 3: every local extremum of y over one period against f_e
+    (minima light grey, maxima dark grey; down sweeps with + marks)."""
+    figure, fracs, axes = _panels(sweep, "Local extrema of y against f_e (Fig. 3)")
+    for i, (ax, frac) in enumerate(zip(axes, fracs)):
+        for run in (r for r in sweep.runs if r.pa_frac == frac):
+            marker = "." if run.direction == "up" else "+"
+            for values, color in ((run.minima_m, "0.7"), (run.maxima_m, "0.25")):
+                f = np.repeat(run.frequency_hz, [len(v) for v in values])
+                y = np.concatenate([np.asarray(v, float) for v in values]) * 1e9
+                ax.plot(f, y, marker, color=color, ms=2, ls="none")
+        ax.axhline(0.0, color="tab:red", lw=0.6, alpha=0.6)  # below: loss of contact
+        ax.set_title(f"({_PANELS[i % 10]}) P_a = {frac:.2f} Q", fontsize=9, loc="left")
+        ax.set_ylabel("y extrema [nm]")
+    for ax in axes[-2:]:
+        ax.set_xlabel("f_e [Hz]")
+    return finish(figure, path)

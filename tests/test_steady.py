@@ -1,0 +1,117 @@
+"""Steady states: the two routes agree, the monodromy is right, the accuracy is as stated."""
+
+import numpy as np
+import pytest
+
+from numerics import compiled_kernels, drive_table, static_deflection, steady_states, sweep
+from perturb import ContactModel, Eq26
+
+
+def test_newton_and_time_marching_reach_the_same_orbits(weight):
+    f = np.linspace(400.0, 1700.0, 27)
+    found = steady_states(f, 0.3 * weight)  # marched from rest, then polished by Newton
+    marched = steady_states(f, 0.3 * weight, method="march", tol=1e-8)
+    assert found.settled.all() and marched.settled.all()
+    assert set(found.method) == {"march+newton"} and set(marched.method) == {"march"}
+    assert np.max(np.abs(found.app / marched.app - 1)) < 1e-5
+
+
+def test_tiny_force_gives_the_linear_resonance(weight):
+    # P_a = 1e-4 Q: the response is the linear transfer of Eq. 2.6 (Section 3.1).
+    k = Eq26().numeric_coefficients()
+    f = np.array([300.0, 1000.0, 1450.0, 1485.6, 1600.0])
+    omega = 2 * np.pi * f
+    p_a = 1e-4 * weight
+    linear = 2 * np.abs(k["G_per_P_a"] * p_a / (k["omega0_squared"] - omega**2
+                                                  + 2j * k["c"] * omega))
+    found = steady_states(f, p_a)
+    deviation = np.abs(found.app / linear - 1)
+    assert deviation.max() < 2e-3, deviation
+
+
+def test_monodromy_equals_finite_differences_of_the_period_map(weight):
+    # Route 1: the derivative of the RK4 step, carried along one period.
+    # Route 2: central differences of the same RK4 period map.
+    model = ContactModel()
+    k = compiled_kernels(model)
+    y0 = static_deflection(model)
+    lanes = np.array([2.0 * y0, 0.5 * y0, -1.0 * y0]), np.array([0.0, 1e-3, -2e-3])
+    f_e, p_a, n = np.array([600.0, 1200.0, 490.0]), np.full(3, 0.4 * weight), 256
+    dt, drive = 1 / (n * f_e), drive_table(n)
+    monodromy = np.empty((3, 2, 2))
+    k.shoot_periods(lanes[0].copy(), lanes[1].copy(), dt, p_a, drive, 1, monodromy)
+
+    def period_map(y, v):
+        y, v = y.copy(), v.copy()
+        k.advance_periods(y, v, dt, p_a, drive, 1, np.full(3, -1))
+        return np.stack([y, v])
+
+    h = np.array([1e-4 * y0, 1e-4 * y0 * 2 * np.pi * 1485])
+    for column in range(2):
+        step = np.zeros(2)
+        step[column] = h[column]
+        plus = period_map(lanes[0] + step[0], lanes[1] + step[1])
+        minus = period_map(lanes[0] - step[0], lanes[1] - step[1])
+        numeric = (plus - minus) / (2 * h[column])
+        assert np.allclose(monodromy[:, :, column].T, numeric, rtol=1e-4, atol=1e-8), column
+
+
+def test_unsettled_lanes_are_reported_not_averaged(weight):
+    # A cap of 16 periods is too short to settle from a bounce at 1450 Hz.
+    found = steady_states([1450.0], 0.3 * weight, y_init=-5 * static_deflection(ContactModel()),
+                          max_periods=16)
+    assert not found.settled[0] and found.period[0] == 0 and np.isnan(found.app[0])
+    assert found.method[0] == "none"
+
+
+def test_period_two_orbit_is_found_and_stable(weight):
+    # A period-2 bouncing orbit coexists at 490 Hz, 0.5 Q (see test_attractors.py).
+    from numerics import attractors
+
+    census = attractors(490.0, 0.5)
+    two = [a for a in census.attractors if a.period == 2]
+    assert two and two[0].contact_lost
+
+
+def _branch_point(weight, pa_frac, f_stop, direction, **accuracy):
+    """Sweep towards f_stop on the paper's grid spacing and return the final orbit."""
+    grid = np.arange(250.0, 1805.0, 5.0)
+    grid = grid[grid <= f_stop] if direction == "up" else grid[grid >= f_stop]
+    grid = grid[-12:] if direction == "up" else grid[:12]
+    result = sweep(grid, [pa_frac], direction=direction, **accuracy)
+    return result.runs[0]
+
+
+@pytest.mark.parametrize(
+    "pa_frac, f_e, direction, what",
+    [(0.05, 1420.0, "up", "primary peak"),
+     (0.15, 740.0, "up", "1/2 superharmonic peak"),
+     (0.5, 1200.0, "down", "bouncing state")],
+)
+def test_app_within_half_a_percent_of_four_times_the_steps(weight, pa_frac, f_e, direction,
+                                                           what):
+    default = _branch_point(weight, pa_frac, f_e, direction)
+    fine = _branch_point(weight, pa_frac, f_e, direction, steps_per_period=4 * 128, tol=1e-7)
+    app, app_fine = default.app_m[-1], fine.app_m[-1]
+    if what == "bouncing state":
+        assert default.ymin_m[-1] < 0
+    assert abs(app / app_fine - 1) < 5e-3, (what, app, app_fine)
+
+
+def test_the_accuracy_check_fails_at_too_few_steps(weight):
+    # The check above can fail: at 8 steps per period a bouncing state is off by > 0.5 %.
+    coarse = _branch_point(weight, 0.5, 1200.0, "down", steps_per_period=8)
+    fine = _branch_point(weight, 0.5, 1200.0, "down", steps_per_period=512, tol=1e-7)
+    assert abs(coarse.app_m[-1] / fine.app_m[-1] - 1) > 5e-3
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [({"method": "euler"}, "`method`"), ({"tol": 0.0}, "`tol`"),
+     ({"steps_per_period": 2}, "`steps_per_period`"), ({"max_periods": 0}, "`max_periods`"),
+     ({"f_e_hz": -1.0}, "`f_e_hz`"), ({"p_a_n": -0.1}, "`p_a_n`")],
+)
+def test_bad_input_is_named(kwargs, message):
+    arguments = {"f_e_hz": 1000.0, "p_a_n": 0.1} | kwargs
+    with pytest.raises(ValueError, match=message):
+        steady_states(arguments.pop("f_e_hz"), arguments.pop("p_a_n"), **arguments)

@@ -1,0 +1,68 @@
+"""Sweeps: the paper's method, its jumps, its JSON and its figures."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from numerics import sweep
+
+
+def test_shooting_sweep_jumps_where_time_marching_jumps():
+    # The bent primary peak at 0.05 Q (bi-stable), and at 0.15 Q the bouncing branch
+    # that the down sweep follows to about 360 Hz, on the paper's 5 Hz grid.
+    grid = np.arange(330.0, 1505.0, 5.0)
+    fast = sweep(grid, [0.05, 0.15])
+    paper = sweep(grid, [0.05, 0.15], method="march", tol=1e-8)
+    for a, b in zip(fast.runs, paper.runs):
+        assert a.jumps() == b.jumps(), (a.pa_frac, a.direction, a.jumps(), b.jumps())
+        assert np.allclose(a.app_m, b.app_m, rtol=1e-4)
+    assert all(run.jumps() for run in fast.runs)
+
+
+def test_up_and_down_differ_inside_the_bistable_band():
+    # Section 3.3: the bent primary peak makes the response depend on the history.
+    result = sweep(np.linspace(1350.0, 1450.0, 21), [0.05])
+    up, down = result.run(0.05, "up"), result.run(0.05, "down")
+    assert up.jumps() and down.jumps()
+    at_1400_up = up.app_m[up.frequency_hz.index(1400.0)]
+    at_1400_down = down.app_m[down.frequency_hz.index(1400.0)]
+    assert at_1400_down > 2 * at_1400_up
+
+
+def test_sweep_json_has_the_documented_keys(tmp_path):
+    target = tmp_path / "sweep.json"
+    subprocess.run([sys.executable, "-m", "numerics", "sweep", "--pa-frac", "0.05", "0.1",
+                    "--fmin", "700", "--fmax", "800", "--points", "5", "--direction", "both",
+                    "--json", str(target), "--plot", str(tmp_path / "fig.png"), "--quiet"],
+                   check=True, capture_output=True)
+    data = json.loads(target.read_text())
+    assert set(data) == {"model", "settings", "runs", "elapsed_s"}
+    assert len(data["runs"]) == 4
+    run = data["runs"][1]
+    assert set(run) == {"pa_frac", "direction", "frequency_hz", "app_m", "ymin_m", "ymax_m",
+                        "maxima_m", "minima_m", "period", "settled"}
+    assert run["direction"] == "down" and run["frequency_hz"] == [800, 775, 750, 725, 700]
+    assert all(len(run[k]) == 5 for k in ("app_m", "maxima_m", "period", "settled"))
+    assert (tmp_path / "fig.png").exists() and (tmp_path / "fig-extrema.png").exists()
+
+
+def test_progress_goes_to_stderr_unless_quiet(tmp_path):
+    command = [sys.executable, "-m", "numerics", "sweep", "--pa-frac", "0.05", "--points", "3",
+               "--fmin", "700", "--fmax", "800"]
+    loud = subprocess.run(command, check=True, capture_output=True, text=True)
+    quiet = subprocess.run(command + ["--quiet"], check=True, capture_output=True, text=True)
+    assert "sweep [" in loud.stderr and quiet.stderr == ""
+
+
+@pytest.mark.parametrize(
+    "args, kwargs, message",
+    [(([1.0, 2.0], [0.1]), {"direction": "sideways"}, "`direction`"),
+     (([2.0, 1.0], [0.1]), {}, "increasing"),
+     (([1.0, 2.0], [-0.1]), {}, "`pa_fracs`")],
+)
+def test_bad_input_is_named(args, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        sweep(*args, **kwargs)

@@ -1,0 +1,243 @@
+"""The analytic forced response of each order against RK4 steady states.
+
+``perturb.frequency_response`` solves the series of Eq. 2.6 for every response
+at each excitation frequency, with a validity flag (no contact loss, last
+orders still shrinking). The RK4 steady states come from frequency sweeps up
+and down (``numerics.sweep``), as in the paper, for two models: Eq. 2.6 itself
+(quadratic spring, linear damping, no contact loss), which the series should
+reproduce, and the full piecewise model of Eq. 2.1-2.4, from which it parts
+where the slider loses contact or the damping's dependence on y matters.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from perturb import EQ_2_6, FULL, ContactModel, Eq26, frequency_response
+
+from ._steady import steady_states
+from ._sweep import sweep
+
+__all__ = ["SteadyCurve", "PeakCheck", "ResponseComparison", "steady_curve", "compare_response",
+           "MODELS", "SUPERHARMONICS", "UNMATCHED"]
+
+#: The two RK4 models the series is held against.
+MODELS = {"eq26": EQ_2_6, "full": FULL}
+#: The resonances checked, f_e ~ f_n0 / k (Eq. 3.1): primary, 1/2 and 1/3.
+SUPERHARMONICS = (1, 2, 3)
+#: Window around f_n0 / k searched for each peak, in units of f_n0 / k; peaks bend down.
+PEAK_WINDOW = (0.8, 1.08)
+#: A state farther than this (relative App) from every valid root has no counterpart
+#: in the series: a fold that falls at another frequency, or a branch it lacks.
+UNMATCHED = 0.1
+
+
+@dataclass
+class SteadyCurve:
+    """RK4 steady states of one model at one P_a, from sweeps up and down.
+
+    Arrays hold the up sweep's points, then the down sweep's, on the same grid.
+    """
+
+    model: str
+    pa_frac: float
+    frequency_hz: np.ndarray
+    app_m: np.ndarray
+    ymin_m: np.ndarray
+    direction: np.ndarray
+    settled: np.ndarray
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def contact_lost(self) -> np.ndarray:
+        return self.ymin_m < 0
+
+
+@dataclass
+class PeakCheck:
+    """Place and height of one resonance peak, from RK4 and from the series."""
+
+    k: int
+    rk4_hz: float
+    rk4_app_m: float
+    series_hz: float
+    series_app_m: float
+
+    @property
+    def height_ratio(self) -> float:
+        return self.series_app_m / self.rk4_app_m
+
+
+@dataclass
+class ResponseComparison:
+    """The order-N series against the RK4 steady states of one model at one P_a.
+
+    Attributes
+    ----------
+    model, pa_frac, order
+        Which RK4 model ("eq26" or "full"), force amplitude and series order.
+    frequency_hz, rk4_app_m, contact_lost : ndarray, shape (states,)
+        The settled RK4 states.
+    series_app_m, error : ndarray, shape (states,)
+        The valid analytic response nearest to each state, and
+        |App_series / App_RK4 - 1|; NaN where the series is not valid.
+    unmatched : ndarray of bool, shape (states,)
+        States where the series is valid but no response of it lies within
+        ``UNMATCHED`` (a fold elsewhere, or a branch the series lacks).
+    largest_error : float
+        The largest error over the matched states where the series is valid
+        (NaN if there are none).
+    peaks : list of PeakCheck
+        The primary, 1/2 and 1/3 superharmonic peaks (Eq. 3.1).
+    """
+
+    model: str
+    pa_frac: float
+    order: int
+    frequency_hz: np.ndarray
+    rk4_app_m: np.ndarray
+    contact_lost: np.ndarray
+    series_app_m: np.ndarray
+    error: np.ndarray
+    unmatched: np.ndarray
+    largest_error: float
+    peaks: list[PeakCheck]
+
+    @property
+    def matched(self) -> np.ndarray:
+        """States where the series is valid and has a response within UNMATCHED."""
+        return np.isfinite(self.error) & ~self.unmatched
+
+    def as_json(self) -> dict:
+        return {
+            "model": self.model, "pa_frac": self.pa_frac, "order": self.order,
+            "frequency_hz": self.frequency_hz.tolist(), "rk4_app_m": self.rk4_app_m.tolist(),
+            "series_app_m": _nan_to_none(self.series_app_m),
+            "largest_error": None if np.isnan(self.largest_error) else self.largest_error,
+            "unmatched_hz": self.frequency_hz[self.unmatched].tolist(),
+            "peaks": [vars(p) | {"height_ratio": p.height_ratio} for p in self.peaks],
+        }
+
+
+def _nan_to_none(values: np.ndarray) -> list:
+    return [None if np.isnan(x) else float(x) for x in values]
+
+
+def _one_direction(grid, pa_frac, model, direction, steps) -> tuple[np.ndarray, ...] | str:
+    """App, ymin, settled along one sweep; a message instead if the sweep breaks down."""
+    try:
+        run = sweep(grid, [pa_frac], direction=direction, model=model,
+                    steps_per_period=steps).runs[0]
+    except ValueError as error:  # a lane went non-finite (Eq. 2.6 escapes past its barrier)
+        return f"{direction} sweep failed ({error}); steady states from rest instead"
+    back = slice(None, None, -1) if direction == "down" else slice(None)
+    return (np.asarray(run.app_m)[back], np.asarray(run.ymin_m)[back],
+            np.asarray(run.settled)[back])
+
+
+def steady_curve(grid, pa_frac: float, model_name: str, steps_per_period: int = 128) -> SteadyCurve:
+    """RK4 steady states of ``MODELS[model_name]`` along sweeps up and down of ``grid``."""
+    if model_name not in MODELS:
+        raise ValueError(f"`model_name` must be one of {sorted(MODELS)}, got {model_name!r}.")
+    model = ContactModel(effects=MODELS[model_name])
+    columns, notes = [], []
+    for direction in ("up", "down"):
+        found = _one_direction(grid, pa_frac, model, direction, steps_per_period)
+        if isinstance(found, str):
+            notes.append(found)
+            rest = steady_states(grid, pa_frac * model.parameters.weight_n, model=model,
+                                 steps_per_period=steps_per_period)
+            found = (rest.app, rest.ymin, rest.settled & ~rest.failed)
+        columns.append(found)
+    app, ymin, settled = (np.concatenate(parts) for parts in zip(*columns))
+    return SteadyCurve(
+        model=model_name, pa_frac=pa_frac, frequency_hz=np.tile(grid, 2), app_m=app,
+        ymin_m=ymin, direction=np.repeat(["up", "down"], grid.size), settled=settled,
+        notes=notes,
+    )
+
+
+def _responses(response, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(frequencies, branches) matrices of the analytic App (NaN where no root) and validity."""
+    app = np.full((grid.size, max(len(response.branches), 1)), np.nan)
+    valid = np.zeros(app.shape, dtype=bool)
+    for j, branch in enumerate(response.branches):
+        rows = np.searchsorted(grid, branch.frequency_hz)
+        app[rows, j], valid[rows, j] = branch.app_m, branch.valid
+    return app, valid
+
+
+def _nearest(app: np.ndarray, valid: np.ndarray, rows: np.ndarray, target: np.ndarray):
+    """Per state, the analytic root of its frequency nearest in App, and whether it is valid."""
+    candidates = app[rows]
+    distance = np.abs(candidates / target[:, None] - 1)
+    best = np.argmin(np.where(np.isnan(distance), np.inf, distance), axis=1)
+    picked = candidates[np.arange(rows.size), best]
+    return picked, valid[rows, best] & np.isfinite(picked)
+
+
+def _peak(frequency, app, centre) -> tuple[float, float]:
+    """Frequency and App of the highest point within PEAK_WINDOW of ``centre``."""
+    inside = (frequency >= PEAK_WINDOW[0] * centre) & (frequency <= PEAK_WINDOW[1] * centre)
+    inside &= np.isfinite(app)
+    if not inside.any():
+        return np.nan, np.nan
+    i = np.flatnonzero(inside)[np.argmax(app[inside])]
+    return float(frequency[i]), float(app[i])
+
+
+def _lowest_per_frequency(frequency: np.ndarray, app: np.ndarray):
+    """The lowest App at each frequency (NaN-free), frequencies sorted."""
+    keep = np.isfinite(app)
+    grid = np.unique(frequency[keep])
+    lowest = np.full(grid.size, np.inf)
+    np.minimum.at(lowest, np.searchsorted(grid, frequency[keep]), app[keep])
+    return grid, lowest
+
+
+def _peaks(states_f, states_app, series_f, series_app, f_n0) -> list[PeakCheck]:
+    """Each resonance's highest point near f_n0 / k.
+
+    For k >= 2 the lowest response at each frequency is searched: once contact
+    is lost the primary peak bends so far that its upper branch reaches f_n0/2
+    (the paper's 740 Hz, 0.15Q), and the superharmonic peak is the other one.
+    """
+    checks = []
+    for k in SUPERHARMONICS:
+        rk4, series = (states_f, states_app), (series_f, series_app)
+        if k >= 2:
+            rk4, series = _lowest_per_frequency(*rk4), _lowest_per_frequency(*series)
+        checks.append(PeakCheck(k, *_peak(*rk4, f_n0 / k), *_peak(*series, f_n0 / k)))
+    return checks
+
+
+def compare_response(
+    curve: SteadyCurve, order: int, grid: np.ndarray, app_limit_m: float = np.inf
+) -> ResponseComparison:
+    """The order-N analytic response against the settled states of ``curve``.
+
+    Each RK4 state is matched with the analytic root of its frequency nearest in
+    App. The series counts as valid for the state when that root is flagged
+    valid (no contact loss, orders still shrinking) and the state's App is
+    within ``app_limit_m``, the range where the order's backbone holds.
+    """
+    response = frequency_response(grid, curve.pa_frac, order)
+    app_table, valid_table = _responses(response, grid)
+    keep = curve.settled & np.isfinite(curve.app_m)
+    frequency, app = curve.frequency_hz[keep], curve.app_m[keep]
+    nearest, valid = _nearest(app_table, valid_table, np.searchsorted(grid, frequency), app)
+    series = np.where(valid & (app <= app_limit_m), nearest, np.nan)
+    error = np.abs(series / app - 1)
+    unmatched = error > UNMATCHED
+    matched = np.isfinite(error) & ~unmatched
+    shown = np.where(valid_table, app_table, np.nan).ravel()
+    peaks = _peaks(frequency, app, np.repeat(grid, app_table.shape[1]), shown,
+                   Eq26().numeric()["f_n0_hz"])
+    return ResponseComparison(
+        model=curve.model, pa_frac=curve.pa_frac, order=order, frequency_hz=frequency,
+        rk4_app_m=app, contact_lost=curve.contact_lost[keep], series_app_m=series, error=error,
+        unmatched=unmatched,
+        largest_error=float(error[matched].max()) if matched.any() else np.nan, peaks=peaks,
+    )

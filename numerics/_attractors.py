@@ -8,7 +8,7 @@ multi-stability).
 from __future__ import annotations
 
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
@@ -43,6 +43,7 @@ class Attractor:
     basin_fraction: float
     contact_lost: bool
     dominant_harmonic: float  # frequency of the strongest harmonic of the acceleration, / f_e
+    orbit_y_m: np.ndarray = field(default=None, repr=False)  # y over one orbit, per step
 
     def label(self) -> str:
         """The resonance the orbit belongs to, by its strongest harmonic (Section 3.2)."""
@@ -64,7 +65,7 @@ class Census:
     elapsed_s: float
 
     def as_dict(self) -> dict:
-        return {"attractors": [asdict(a) | {"label": a.label()} for a in self.attractors],
+        return {"attractors": [_attractor_dict(a) for a in self.attractors],
                 "not_settled_fraction": self.not_settled_fraction,
                 "settings": self.settings, "elapsed_s": self.elapsed_s}
 
@@ -77,6 +78,12 @@ class Census:
         if self.not_settled_fraction:
             lines.append(f"  not settled: {self.not_settled_fraction:.1%} of initial states")
         return "\n".join(lines)
+
+
+def _attractor_dict(attractor: Attractor) -> dict:
+    out = asdict(attractor) | {"label": attractor.label()}
+    out.pop("orbit_y_m")
+    return out
 
 
 def initial_grid(model: ContactModel, grid: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -150,26 +157,31 @@ def _cluster(found) -> list[np.ndarray]:
 def _describe(found, members, total, model, f_e, frac, steps) -> Attractor:
     lane = members[0]
     p = int(found.period[lane])
+    orbit = _orbit(found, lane, model, f_e, frac, steps)
     return Attractor(
         period=p, app_m=float(found.app[lane]), ymin_m=float(found.ymin[lane]),
         ymax_m=float(found.ymax[lane]), basin_fraction=members.size / total,
         contact_lost=bool(found.ymin[lane] < 0),
-        dominant_harmonic=_dominant_harmonic(found, lane, model, f_e, frac, steps),
+        dominant_harmonic=_dominant_harmonic(orbit, p), orbit_y_m=orbit,
     )
 
 
-def _dominant_harmonic(found, lane, model, f_e, frac, steps) -> float:
+def _orbit(found, lane, model, f_e, frac, steps) -> np.ndarray:
+    """y after every step of one orbit (p periods) from the lane's orbit start."""
+    p = int(found.period[lane])
+    run = simulate(f_e, frac * model.parameters.weight_n, periods=p, steps_per_period=steps,
+                   model=model, y_init=found.y_start[lane], v_init=found.v_start[lane],
+                   record=("history",), record_periods=p)
+    return run.history_y[0]
+
+
+def _dominant_harmonic(orbit: np.ndarray, period: int) -> float:
     """Frequency, over f_e, of the strongest harmonic of the acceleration over one orbit.
 
     A superharmonic resonance m amplifies the m-th harmonic, whose frequency is
     near f_n0 (Section 3.2); weighting the displacement harmonics c_k by k^2
     (acceleration) lets it stand out above the directly forced first harmonic.
     """
-    p = int(found.period[lane])
-    run = simulate(f_e, frac * model.parameters.weight_n, periods=p, steps_per_period=steps,
-                   model=model, y_init=found.y_start[lane], v_init=found.v_start[lane],
-                   record=("history",), record_periods=p)
-    spectrum = np.abs(np.fft.rfft(run.history_y[0]))
+    spectrum = np.abs(np.fft.rfft(orbit))
     k = np.arange(spectrum.size)
-    k = 1 + int(np.argmax((k**2 * spectrum)[1:]))
-    return k / p
+    return (1 + int(np.argmax((k**2 * spectrum)[1:]))) / period

@@ -6,6 +6,7 @@ Agg) and, given ``path``, saves it there.
 """
 
 from ._backbone import plot_backbone
+from ._census import plot_census
 from ._hysteresis import plot_hysteresis
 from ._natural_frequency import plot_natural_frequency
 from ._sweep import plot_app, plot_extrema
@@ -13,6 +14,7 @@ from ._sweep import plot_app, plot_extrema
 __all__ = [
     "plot_app",
     "plot_backbone",
+    "plot_census",
     "plot_extrema",
     "plot_hysteresis",
     "plot_natural_frequency",

@@ -7,45 +7,20 @@ way). Also the one-off compile time, and what the on-disk cache leaves of it.
 
 from __future__ import annotations
 
-import math
 import os
 import subprocess
 import sys
 import tempfile
 
-import numba
 import numpy as np
 
 from numerics import compiled_kernels, drive_table, static_deflection
 from perturb import PAPER, ContactModel
 
+from ._textbook import PARAMETERS, textbook_rk4
 from ._timing import header, median_time, row
 
 LANES, STEPS, PERIODS = 1000, 128, 40
-
-
-@numba.njit(cache=True)
-def textbook_rk4(y, v, f_e, p_a, steps, periods, S, c_n, m2, h_n, l, M, g):  # noqa: E741
-    """One lane after another; Eq. 2.4 with cos and pow at every stage (baseline only)."""
-
-    def accel(t, yy, vv, fe, pa):
-        contact = -S * c_n * yy**m2 - S * h_n * yy**l * vv if yy > 0 else 0.0
-        return (contact + M * g + pa * math.cos(2 * math.pi * fe * t)) / M
-
-    for lane in range(y.shape[0]):
-        dt = 1.0 / (steps * f_e[lane])
-        yy, vv, t = y[lane], v[lane], 0.0
-        for _ in range(steps * periods):
-            a1 = accel(t, yy, vv, f_e[lane], p_a[lane])
-            a2 = accel(t + dt / 2, yy + dt / 2 * vv, vv + dt / 2 * a1, f_e[lane], p_a[lane])
-            a3 = accel(t + dt / 2, yy + dt / 2 * (vv + dt / 2 * a1), vv + dt / 2 * a2,
-                       f_e[lane], p_a[lane])
-            a4 = accel(t + dt, yy + dt * (vv + dt / 2 * a2), vv + dt * a3, f_e[lane], p_a[lane])
-            yy, vv = (yy + dt / 6 * (vv + 2 * (vv + dt / 2 * a1) + 2 * (vv + dt / 2 * a2)
-                                    + vv + dt * a3),
-                      vv + dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4))
-            t += dt
-        y[lane], v[lane] = yy, vv
 
 
 def _lanes(model):
@@ -65,8 +40,7 @@ def throughput() -> tuple[float, float, float]:
     kernels.advance_periods(y, v, dt, p_a, drive, 1, failed)  # compile / load
     generated = median_time(lambda: kernels.advance_periods(y, v, dt, p_a, drive, PERIODS, failed))
     lost = float(np.mean(_lost_contact(kernels, model)))
-    p = PAPER
-    args = (STEPS, PERIODS // 4, p.S, p.c_n, p.m2, p.h_n, p.l, p.M, p.g)
+    args = (STEPS, PERIODS // 4, PARAMETERS)
     f2, p2, y2, v2 = _lanes(model)
     textbook_rk4(y2[:2], v2[:2], f2[:2], p2[:2], *args)  # compile / load
     textbook = median_time(lambda: textbook_rk4(y2, v2, f2, p2, *args), repeats=3)

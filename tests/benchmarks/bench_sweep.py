@@ -1,0 +1,100 @@
+"""The whole Fig. 2 + Fig. 3 job: ten amplitudes, up and down, 311 frequencies.
+
+Baselines, measured in the same run:
+- a plain compiled brute force (the paper's method: 150 periods of 400 steps per
+  point from the previous point's state, no early stop), on two of the twenty
+  runs, extrapolated;
+- scipy's solve_ivp (DOP853, rtol 1e-9, 150 periods per point), on a few points,
+  extrapolated.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+from numerics import static_deflection, sweep
+from perturb import PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
+
+from ._textbook import PARAMETERS, brute_force_sweep, dop853_point
+from ._timing import header, median_time, row
+
+GRID = np.linspace(*PAPER_BAND_HZ, 311)
+BRUTE = {"steps": 400, "periods": 150}
+DOP853_POINTS = 3
+
+_COLD = (
+    "import time, numpy as np; t = time.perf_counter();"
+    "from numerics import sweep; from perturb import PAPER_PANEL_FRACTIONS as P;"
+    "sweep(np.linspace(250, 1800, 311), P); print(time.perf_counter() - t)"
+)
+
+
+def cold_start() -> float:
+    """The job in a fresh process with an empty kernel cache (import and compile included)."""
+    with tempfile.TemporaryDirectory() as cache:
+        env = os.environ | {"CONTACT_RESONANCES_CACHE": cache}
+        out = subprocess.run([sys.executable, "-c", _COLD], env=env, capture_output=True,
+                             text=True, check=True)
+    return float(out.stdout)
+
+
+def brute_force(result) -> tuple[float, float]:
+    """Seconds for the whole job, extrapolated from one amplitude up and down; and the
+    largest relative App difference to the fast sweep on those runs."""
+    y0 = static_deflection(ContactModel())
+    frac = PAPER_PANEL_FRACTIONS[-1]
+    p_a = frac * PAPER.weight_n
+    brute_force_sweep(GRID[:2], p_a, y0, 8, 2, PARAMETERS)  # compile / load
+    start = time.perf_counter()
+    apps = [brute_force_sweep(grid, p_a, y0, BRUTE["steps"], BRUTE["periods"], PARAMETERS)
+            for grid in (GRID, GRID[::-1])]
+    elapsed = time.perf_counter() - start
+    fast = [np.asarray(result.run(frac, d).app_m) for d in ("up", "down")]
+    worst = max(np.max(np.abs(a / b - 1)) for a, b in zip(apps, fast))
+    return elapsed * len(result.runs) / 2, worst
+
+
+def dop853(result) -> float:
+    """Seconds for the whole job, extrapolated from a few points."""
+    y0 = static_deflection(ContactModel())
+    points = GRID[:: len(GRID) // DOP853_POINTS][:DOP853_POINTS]
+    start = time.perf_counter()
+    for f in points:
+        dop853_point(f, 0.3 * PAPER.weight_n, y0, BRUTE["periods"])
+    per_point = (time.perf_counter() - start) / len(points)
+    return per_point * sum(len(r.frequency_hz) for r in result.runs)
+
+
+def main() -> None:
+    job = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS)  # noqa: E731
+    result = job()
+    warm = median_time(job, repeats=3)
+    cold = cold_start()
+    brute, brute_gap = brute_force(result)
+    scipy_s = dop853(result)
+    points = sum(len(r.frequency_hz) for r in result.runs)
+    header(f"Fig. 2 + 3 job: {len(result.runs)} sweeps x {len(GRID)} points = {points} "
+           f"steady states")
+    row("shooting sweep, kernels cached [s] vs brute force", warm, brute, "s",
+        higher_is_better=False)
+    row("shooting sweep, kernels cached [s] vs DOP853", warm, scipy_s, "s",
+        higher_is_better=False)
+    row("cold start: import + compile + job [s]", cold, None, "s")
+    row("goals: warm [s], cold [s]", 1.0, None)
+    row("", 15.0, None)
+    print(f"brute force: {BRUTE['periods']} periods x {BRUTE['steps']} steps, two runs timed "
+          f"({brute / len(result.runs) * 2:.1f} s), extrapolated to {len(result.runs)}; "
+          f"largest App difference to the fast sweep: {brute_gap:.2e} (relative)")
+    print(f"DOP853 (rtol 1e-9): {DOP853_POINTS} points timed, extrapolated to {points}")
+    unsettled = sum(not s for r in result.runs for s in r.settled)
+    print(f"not settled: {unsettled} of {points} points")
+
+
+if __name__ == "__main__":
+    main()

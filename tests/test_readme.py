@@ -1,5 +1,6 @@
 """Every example in README.md runs: the python blocks, and the commands of the console blocks."""
 
+import doctest
 import re
 import shlex
 import subprocess
@@ -10,6 +11,7 @@ import pytest
 
 README = (Path(__file__).parents[1] / "README.md").read_text()
 PYTHON_BLOCKS = re.findall(r"```python\n(.*?)```", README, re.S)
+PYCON_BLOCKS = re.findall(r"```pycon\n(.*?)```", README, re.S)
 COMMANDS = [
     line.split("#")[0].strip()
     for block in re.findall(r"```console\n(.*?)```", README, re.S)
@@ -21,6 +23,15 @@ COMMANDS = [
 @pytest.mark.parametrize("code", PYTHON_BLOCKS, ids=lambda code: code.splitlines()[0][:40])
 def test_python_example_runs(code):
     exec(compile(code, "README.md", "exec"), {})
+
+
+@pytest.mark.parametrize("session", PYCON_BLOCKS, ids=lambda code: code.splitlines()[0][4:44])
+def test_pycon_example_prints_what_the_readme_says(session):
+    flags = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
+    test = doctest.DocTestParser().get_doctest(session, {}, "README.md", "README.md", 0)
+    runner = doctest.DocTestRunner(optionflags=flags)
+    runner.run(test)
+    assert runner.failures == 0, f"{runner.failures} README example(s) printed otherwise"
 
 
 @pytest.mark.parametrize("command", COMMANDS)

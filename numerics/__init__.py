@@ -7,6 +7,7 @@ scene asks for; see ``simulate``.
 from ._attractors import Attractor, Census, attractors
 from ._backbone import Backbone, exact_backbone
 from ._codegen import acceleration_source, compiled_kernels
+from ._compare import Comparison, compare
 from ._hysteresis import HysteresisLoop, hysteresis_loop
 from ._natural_frequency import HeightSweep, natural_frequency_vs_height
 from ._result import Simulation
@@ -19,6 +20,7 @@ __all__ = [
     "Attractor",
     "Backbone",
     "Census",
+    "Comparison",
     "HeightSweep",
     "HysteresisLoop",
     "RECORDABLE",
@@ -28,6 +30,7 @@ __all__ = [
     "SweepRun",
     "acceleration_source",
     "attractors",
+    "compare",
     "compiled_kernels",
     "drive_table",
     "exact_backbone",

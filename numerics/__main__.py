@@ -8,6 +8,7 @@ import sys
 
 from ._backbone import exact_backbone
 from ._backbone_table import format_backbone
+from ._cli_compare import add_compare_parser
 from ._cli_steady import add_attractors_parser, add_sweep_parser
 from ._info import format_info, model_info
 
@@ -51,6 +52,7 @@ def build_parser() -> argparse.ArgumentParser:
     backbone.set_defaults(run=_backbone)
     add_sweep_parser(sub)
     add_attractors_parser(sub)
+    add_compare_parser(sub)
     return parser
 
 

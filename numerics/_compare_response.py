@@ -27,8 +27,10 @@ __all__ = ["SteadyCurve", "PeakCheck", "ResponseComparison", "steady_curve", "co
 MODELS = {"eq26": EQ_2_6, "full": FULL}
 #: The resonances checked, f_e ~ f_n0 / k (Eq. 3.1): primary, 1/2 and 1/3.
 SUPERHARMONICS = (1, 2, 3)
-#: Window around f_n0 / k searched for each peak, in units of f_n0 / k; peaks bend down.
-PEAK_WINDOW = (0.8, 1.08)
+#: Window searched for each peak, in units of f_n0 / k. Peaks bend to lower
+#: frequencies; the primary (k = 1) the most: once contact is lost its upper
+#: branch reaches past f_n0 / 2 (the paper's 740 Hz at 0.15Q; RK4 follows it to 370 Hz).
+PEAK_WINDOWS = {1: (0.15, 1.08), 2: (0.8, 1.08), 3: (0.8, 1.08)}
 #: A state farther than this (relative App) from every valid root has no counterpart
 #: in the series: a fold that falls at another frequency, or a branch it lacks.
 UNMATCHED = 0.1
@@ -178,38 +180,46 @@ def _nearest(app: np.ndarray, valid: np.ndarray, rows: np.ndarray, target: np.nd
     return picked, valid[rows, best] & np.isfinite(picked)
 
 
-def _peak(frequency, app, centre) -> tuple[float, float]:
-    """Frequency and App of the highest point within PEAK_WINDOW of ``centre``."""
-    inside = (frequency >= PEAK_WINDOW[0] * centre) & (frequency <= PEAK_WINDOW[1] * centre)
-    inside &= np.isfinite(app)
-    if not inside.any():
-        return np.nan, np.nan
-    i = np.flatnonzero(inside)[np.argmax(app[inside])]
-    return float(frequency[i]), float(app[i])
-
-
-def _lowest_per_frequency(frequency: np.ndarray, app: np.ndarray):
-    """The lowest App at each frequency (NaN-free), frequencies sorted."""
+def _envelope(frequency: np.ndarray, app: np.ndarray, highest: bool):
+    """The highest (or lowest) App at each frequency, frequencies sorted."""
     keep = np.isfinite(app)
     grid = np.unique(frequency[keep])
-    lowest = np.full(grid.size, np.inf)
-    np.minimum.at(lowest, np.searchsorted(grid, frequency[keep]), app[keep])
-    return grid, lowest
+    envelope = np.full(grid.size, -np.inf if highest else np.inf)
+    rows = np.searchsorted(grid, frequency[keep])
+    (np.maximum if highest else np.minimum).at(envelope, rows, app[keep])
+    return grid, envelope
+
+
+def _peak(frequency, app, centre, window) -> tuple[float, float]:
+    """The highest local maximum of App(f) strictly inside ``window`` (units of ``centre``).
+
+    A maximum at the window's edge is the flank of a neighbouring peak, not a peak.
+    """
+    inside = np.flatnonzero((frequency >= window[0] * centre) & (frequency <= window[1] * centre))
+    if inside.size < 3:
+        return np.nan, np.nan
+    a = app[inside]
+    local = np.flatnonzero((a[1:-1] > a[:-2]) & (a[1:-1] >= a[2:])) + 1
+    if local.size == 0:
+        return np.nan, np.nan
+    best = inside[local[np.argmax(a[local])]]
+    return float(frequency[best]), float(app[best])
 
 
 def _peaks(states_f, states_app, series_f, series_app, f_n0) -> list[PeakCheck]:
-    """Each resonance's highest point near f_n0 / k.
+    """Place and height of the primary (k = 1) and superharmonic (k >= 2) peaks.
 
-    For k >= 2 the lowest response at each frequency is searched: once contact
-    is lost the primary peak bends so far that its upper branch reaches f_n0/2
-    (the paper's 740 Hz, 0.15Q), and the superharmonic peak is the other one.
+    The primary is sought on the highest response at each frequency, the
+    superharmonics on the lowest: where the bent primary coexists with them,
+    they are the other solution.
     """
     checks = []
     for k in SUPERHARMONICS:
-        rk4, series = (states_f, states_app), (series_f, series_app)
-        if k >= 2:
-            rk4, series = _lowest_per_frequency(*rk4), _lowest_per_frequency(*series)
-        checks.append(PeakCheck(k, *_peak(*rk4, f_n0 / k), *_peak(*series, f_n0 / k)))
+        rk4 = _envelope(states_f, states_app, highest=k == 1)
+        series = _envelope(series_f, series_app, highest=k == 1)
+        window = PEAK_WINDOWS[k]
+        checks.append(PeakCheck(k, *_peak(*rk4, f_n0 / k, window),
+                                *_peak(*series, f_n0 / k, window)))
     return checks
 
 

@@ -1,0 +1,92 @@
+"""The comparison as `python -m numerics compare` prints it."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._compare import Comparison
+
+__all__ = ["format_comparison"]
+
+
+def _error(value: float) -> str:
+    return "-" if np.isnan(value) else f"{value:.1e}"
+
+
+def _backbone_lines(c: Comparison) -> list[str]:
+    b = c.backbone
+    lines = [
+        f"Backbone: series of order N against the exact backbone (contact lost above "
+        f"A_pp = {b.contact_loss_app_m * 1e9:.1f} nm)",
+        f"{'order':>6}{'a1 limit [nm]':>15}{'A_pp limit [nm]':>17}   "
+        f"(where |f_series/f_exact - 1| first exceeds {b.tolerance:g})",
+    ]
+    for n, a1, app in zip(b.orders, b.limit_a1_m, b.limit_app_m):
+        lines.append(f"{n:>6}{a1 * 1e9:>15.1f}{app * 1e9:>17.1f}")
+    return lines
+
+
+def _response_lines(c: Comparison) -> list[str]:
+    head = "".join(f"{f'P_a={p:.2f}Q':>22}" for p in c.pa_fracs)
+    lines = [
+        "Response: largest |App_series/App_RK4 - 1| where the series is valid "
+        "(matched / settled states; + unmatched)",
+        f"{'order':>6}{'RK4 model':>10}{head}",
+    ]
+    for n in c.orders:
+        for model in ("eq26", "full"):
+            cells = ""
+            for p in c.pa_fracs:
+                r = c.response(model, p, n)
+                cell = f"{_error(r.largest_error)} ({r.matched.sum()}/{r.error.size}"
+                cell += f"+{r.unmatched.sum()})" if r.unmatched.any() else ")"
+                cells += f"{cell:>22}"
+            lines.append(f"{n:>6}{model:>10}{cells}")
+    return lines
+
+
+def _peak_lines(c: Comparison) -> list[str]:
+    n = max(c.orders)
+    lines = [f"Peaks near f_n0/k: place [Hz] and height A_pp [nm], RK4 against order {n}"]
+    lines.append(f"{'k':>3}{'P_a/Q':>7}{'RK4 Eq. 2.6':>18}{'RK4 full':>18}{'series (valid)':>18}")
+    for p in c.pa_fracs:
+        eq26, full = c.response("eq26", p, n), c.response("full", p, n)
+        for a, b in zip(eq26.peaks, full.peaks):
+            cells = [(a.rk4_hz, a.rk4_app_m), (b.rk4_hz, b.rk4_app_m),
+                     (a.series_hz, a.series_app_m)]
+            text = "".join(
+                f"{'-':>18}" if np.isnan(f) else f"{f'{f:.0f} Hz {h * 1e9:.1f}':>18}"
+                for f, h in cells
+            )
+            lines.append(f"{a.k:>3}{p:>7.2f}{text}")
+    return lines
+
+
+def _parting_lines(c: Comparison) -> list[str]:
+    lines = [f"RK4 full model against RK4 Eq. 2.6 (App differing by more than {c.tolerance:g})"]
+    for p in c.pa_fracs:
+        d = c.parting(p)
+        where = d["in_contact_hz"]
+        span = f" ({where[0]:.0f}-{where[-1]:.0f} Hz, the damping law)" if where else ""
+        lines.append(
+            f"  P_a = {p:.2f} Q: {d['differ']} of {d['states']} states: "
+            f"{d['differ_with_contact_loss']} with contact loss, "
+            f"{d['differ_in_contact']} in contact{span}"
+        )
+    return lines
+
+
+def format_comparison(comparison: Comparison) -> str:
+    """The four tables: backbone limits, response errors, peaks, model parting.
+
+    Examples
+    --------
+    >>> from numerics._compare import compare
+    >>> result = compare((4, 6), (0.05,), frequencies_hz=np.arange(700.0, 800.0, 5.0))
+    >>> print(format_comparison(result).splitlines()[2])
+         4          265.7            540.1
+    """
+    blocks = [_backbone_lines(comparison), _response_lines(comparison),
+              _peak_lines(comparison), _parting_lines(comparison)]
+    notes = [f"note: {note}" for curve in comparison.curves for note in curve.notes]
+    return "\n\n".join("\n".join(block) for block in blocks + ([notes] if notes else []))

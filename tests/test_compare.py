@@ -1,0 +1,101 @@
+"""The perturbation series against the exact backbone and RK4 steady states."""
+
+import json
+
+import numpy as np
+import pytest
+
+from numerics import compare
+from numerics.__main__ import main
+from numerics._compare_backbone import compare_backbones
+from numerics._compare_response import steady_curve
+
+ORDERS = (2, 4, 6, 8, 10)
+
+
+@pytest.fixture(scope="module")
+def backbones():
+    return compare_backbones(ORDERS)
+
+
+def error_at(backbones, a1: float) -> np.ndarray:
+    """Each order's relative error at the fundamental amplitude a1 (log-log interpolation)."""
+    return np.exp([np.interp(np.log(a1), np.log(backbones.a1_m), np.log(np.maximum(e, 1e-300)))
+                   for e in backbones.error])
+
+
+@pytest.mark.parametrize("a1_over_y0", [0.2, 0.5, 0.8])
+def test_series_backbone_converges_below_contact_loss(backbones, a1_over_y0):
+    # Contact is lost at a1 = 0.878 y0; below it the full model is Eq. 2.6 (m2 = 2:
+    # the quadratic Taylor spring is exact) and the series converges to it.
+    y0 = backbones.contact_loss_app_m / np.sqrt(3)
+    errors = error_at(backbones, a1_over_y0 * y0)
+    assert np.all(np.diff(errors) < 0), f"a1 = {a1_over_y0} y0: errors {errors}"
+
+
+def test_series_backbone_diverges_past_contact_loss(backbones):
+    # Bouncing: the series of Eq. 2.6 knows nothing of the flight, and higher
+    # orders only go further wrong.
+    errors = backbones.error[:, -1]
+    assert np.all(np.diff(errors) > 0) and errors[0] > 0.5, errors
+
+
+def test_backbone_limits_bracket_contact_loss(backbones):
+    loss = backbones.contact_loss_app_m
+    assert backbones.limit_app_m[0] < loss  # order 2 fails before contact is lost
+    assert np.all((backbones.limit_app_m > 0.9 * loss) & (backbones.limit_app_m < 1.5 * loss))
+    # Within its limit each order is within 1 %, just past it it is not.
+    for n, limit, error in zip(ORDERS, backbones.limit_app_m, backbones.error):
+        assert np.all(error[backbones.app_m < 0.99 * limit] <= 0.01), n
+
+
+@pytest.fixture(scope="module")
+def half_superharmonic():
+    # The 1/2 superharmonic peak at 0.05 Q (f_e ~ f_n0 / 2, Eq. 3.1).
+    return compare((4, 6, 8), (0.05,), frequencies_hz=np.arange(700.0, 800.0, 5.0))
+
+
+def test_series_response_converges_to_rk4_of_eq26(half_superharmonic):
+    errors = [half_superharmonic.response("eq26", 0.05, n).largest_error for n in (4, 6, 8)]
+    assert errors[0] > errors[1] > errors[2] and errors[2] < 1e-5, errors
+    peak = half_superharmonic.response("eq26", 0.05, 8).peaks[1]
+    assert peak.k == 2 and peak.series_hz == peak.rk4_hz == 745.0
+    assert peak.height_ratio == pytest.approx(1, abs=1e-5)
+
+
+def test_full_model_parts_by_its_damping_law_at_the_half_peak(half_superharmonic):
+    # Measured 0.16 %, whatever the order: the power-law damping y^l ydot is not
+    # its linearisation at y0; the series (of Eq. 2.6) cannot follow it.
+    errors = [half_superharmonic.response("full", 0.05, n).largest_error for n in (4, 6, 8)]
+    assert np.all((np.array(errors) > 1e-3) & (np.array(errors) < 3e-3)), errors
+
+
+def test_where_the_full_model_parts_from_eq26():
+    result = compare((6,), (0.05, 0.10), frequencies_hz=np.arange(1300.0, 1500.0, 5.0))
+    gentle, strong = result.parting(0.05), result.parting(0.10)
+    # 0.05 Q: no contact loss; near the primary peak the damping law alone parts them.
+    assert gentle["differ_with_contact_loss"] == 0 and gentle["differ_in_contact"] > 0
+    assert min(gentle["in_contact_hz"]) >= 1370 and max(gentle["in_contact_hz"]) <= 1445
+    # 0.10 Q: every state that differs loses contact.
+    assert strong["differ"] > 0 and strong["differ_in_contact"] == 0
+
+
+def test_cli_compare_prints_writes_and_draws(tmp_path, capsys):
+    path, picture = tmp_path / "compare.json", tmp_path / "compare.png"
+    code = main(["compare", "--orders", "2", "4", "--pa-frac", "0.05", "--json", str(path),
+                 "--plot", str(picture), "--quiet"])
+    assert code == 0
+    payload = json.loads(path.read_text())
+    assert payload["backbone"]["orders"] == [2, 4]
+    assert {(r["model"], r["order"]) for r in payload["responses"]} == {
+        (m, n) for m in ("eq26", "full") for n in (2, 4)}
+    assert picture.read_bytes()[:4] == b"\x89PNG"
+    out = capsys.readouterr()
+    assert "A_pp limit" in out.out and out.err == ""
+
+
+def test_bad_input_is_named():
+    with pytest.raises(ValueError, match="`orders`"):
+        compare_backbones(())
+    with pytest.raises(ValueError, match="`model_name`"):
+        steady_curve(np.array([700.0, 710.0]), 0.05, "linear")

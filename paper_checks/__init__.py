@@ -1,5 +1,11 @@
-"""paper_checks: the paper's claims as checks, and its figures redrawn."""
+"""paper_checks: the paper's claims as checks, its figures redrawn, and the report.
 
-from ._claims import Claim, run_claims
+``python -m paper_checks [--quick] [--out DIR]`` writes DIR/report.md and
+DIR/report.json (``make paper``).
+"""
 
-__all__ = ["Claim", "run_claims"]
+from ._claims import Claim
+from ._registry import CHECKS, run_claims
+from ._scene import PaperScene
+
+__all__ = ["CHECKS", "Claim", "PaperScene", "run_claims"]

@@ -1,0 +1,143 @@
+"""What accuracy costs: RK4 steps, series order and DOP853 tolerance against error and time.
+
+Every point is measured in one run. Errors are the largest relative App error
+over a few (P_a, f_e) points:
+
+- RK4 (full model, steady states by shooting from the reference orbit) against
+  the same orbit at 3,200 steps per period and tol 1e-9;
+- the perturbation series of order N (Eq. 2.6) against RK4 of the Eq. 2.6 model at
+  1,600 steps per period;
+- scipy's DOP853 (full model, 30 periods from the reference orbit, App of the last
+  period from its dense output) against the same reference as RK4.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from numerics import steady_states
+from perturb import EQ_2_6, PAPER, ContactModel, compile_series, frequency_response
+
+__all__ = ["WorkPrecision", "work_precision", "RK4_POINTS", "SERIES_POINTS"]
+
+#: (P_a / Q, f_e [Hz]): the primary peak, the 1/2 superharmonic, a bouncing state.
+RK4_POINTS = ((0.05, 1420.0), (0.15, 740.0), (0.5, 1200.0))
+#: Where the series is valid (no loss of contact): off-peak, near the peak, 1/2 peak.
+SERIES_POINTS = ((0.05, 740.0), (0.05, 1000.0), (0.05, 1300.0))
+RK4_STEPS = (25, 50, 100, 200, 400, 800, 1600)
+SERIES_ORDERS = tuple(range(9))
+DOP853_RTOL = (1e-3, 1e-5, 1e-7, 1e-9, 1e-11)
+
+
+@dataclass
+class Method:
+    """One method's work-precision points."""
+
+    name: str
+    setting: str
+    settings: list = field(default_factory=list)
+    errors: list = field(default_factory=list)
+    seconds: list = field(default_factory=list)
+    extra: dict = field(default_factory=dict)
+
+
+@dataclass
+class WorkPrecision:
+    methods: list[Method]
+    elapsed_s: float
+
+    def as_dict(self) -> dict:
+        return {m.name: {"setting": m.setting, "settings": m.settings, "errors": m.errors,
+                         "seconds": m.seconds, **m.extra} for m in self.methods}
+
+
+def _best_of(function, repeats: int = 3) -> tuple[object, float]:
+    best, result = math.inf, None
+    for _ in range(repeats):
+        start = time.perf_counter()
+        result = function()
+        best = min(best, time.perf_counter() - start)
+    return result, best
+
+
+def _rk4(quick: bool):
+    f = np.array([p[1] for p in RK4_POINTS])
+    p_a = np.array([p[0] for p in RK4_POINTS]) * PAPER.weight_n
+    ref = steady_states(f, p_a, steps_per_period=3200, tol=1e-9)
+    method = Method("RK4", "steps per period")
+    for n in RK4_STEPS[:-2] if quick else RK4_STEPS:
+        found, seconds = _best_of(lambda n=n: steady_states(
+            f, p_a, y_init=ref.y_start, v_init=ref.v_start, span_guess=ref.app,
+            period_guess=ref.period, steps_per_period=n))
+        method.settings.append(n)
+        method.errors.append(float(np.max(np.abs(found.app / ref.app - 1))))
+        method.seconds.append(seconds)
+    return method, ref
+
+
+def _series(quick: bool) -> Method:
+    f = np.array([p[1] for p in SERIES_POINTS])
+    frac = SERIES_POINTS[0][0]
+    ref = steady_states(f, frac * PAPER.weight_n, model=ContactModel(effects=EQ_2_6),
+                        steps_per_period=1600, tol=1e-9)
+    method = Method("series", "order N", extra={"derive_seconds": []})
+    for order in SERIES_ORDERS[:5] if quick else SERIES_ORDERS:
+        start = time.perf_counter()
+        compile_series(order)  # derive and compile (cached after the first call)
+        method.extra["derive_seconds"].append(time.perf_counter() - start)
+        response, seconds = _best_of(lambda o=order: frequency_response(f, frac, o))
+        method.settings.append(order)
+        method.errors.append(_series_error(response, ref.app))
+        method.seconds.append(seconds)
+    return method
+
+
+def _series_error(response, reference: np.ndarray) -> float:
+    """Largest relative App error; at each frequency the root nearest the RK4 orbit."""
+    worst = 0.0
+    for i, f in enumerate(response.frequency_hz):
+        apps = [b.app_m[list(b.frequency_hz).index(f)] for b in response.branches
+                if f in b.frequency_hz]
+        nearest = min(apps, key=lambda a: abs(a / reference[i] - 1))
+        worst = max(worst, abs(nearest / reference[i] - 1))
+    return float(worst)
+
+
+def _dop853_app(f_e, p_a, y, v, rtol, periods=30) -> float:
+    p = PAPER
+
+    def rhs(t, state):
+        yy, vv = state
+        contact = -p.S * p.c_n * yy**p.m2 - p.S * p.h_n * yy**p.l * vv if yy > 0 else 0.0
+        return (vv, (contact + p.M * p.g + p_a * math.cos(2 * math.pi * f_e * t)) / p.M)
+
+    end = periods / f_e
+    solution = solve_ivp(rhs, (0.0, end), (y, v), method="DOP853", rtol=rtol,
+                         atol=rtol * 1e-7, dense_output=True)
+    y_last = solution.sol(np.linspace(end - 1 / f_e, end, 20001))[0]  # sampling error ~1e-8
+    return float(np.ptp(y_last))
+
+
+def _dop853(ref, quick: bool) -> Method:
+    method = Method("DOP853", "rtol (30 periods from the orbit)")
+    for rtol in DOP853_RTOL[:3] if quick else DOP853_RTOL:
+        start = time.perf_counter()
+        apps = [_dop853_app(f, frac * PAPER.weight_n, y, v, rtol)
+                for (frac, f), y, v in zip(RK4_POINTS, ref.y_start, ref.v_start)]
+        method.settings.append(rtol)
+        method.seconds.append(time.perf_counter() - start)
+        method.errors.append(float(np.max(np.abs(np.array(apps) / ref.app - 1))))
+    return method
+
+
+def work_precision(quick: bool = False) -> WorkPrecision:
+    """Measure every method's error and time, in this run."""
+    start = time.perf_counter()
+    rk4, ref = _rk4(quick)
+    methods = [rk4, _series(quick), _dop853(ref, quick)]
+    return WorkPrecision(methods, time.perf_counter() - start)

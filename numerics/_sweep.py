@@ -16,6 +16,7 @@ from perturb import ContactModel
 
 from ._info import model_info
 from ._progress import Progress
+from ._simulate import static_deflection
 from ._steady import DEFAULTS, steady_states
 from ._validate import lane_array, positive_int
 
@@ -153,14 +154,18 @@ def _sweep_lanes(freq, p_a, model, steps, tol, max_periods, method, quiet) -> di
                                "settled", "method")}
     y = v = span = None
     period = 1
+    rest = static_deflection(model)
     bar = Progress(points, "sweep", quiet=quiet)
     for j in range(points):
         found = steady_states(freq[:, j], p_a, model=model, y_init=y, v_init=v,
                               period_guess=period, span_guess=span, steps_per_period=steps,
                               tol=tol, max_periods=max_periods, method=method)
-        # The next point starts from this point's orbit (or last state, if unsettled).
-        y, v = found.y_start, found.v_start
-        span = np.where(found.settled, found.app, 0.0)
+        # The next point starts from this point's orbit (or last state, if unsettled);
+        # a lane whose state blew up (a reduced model with no floor) starts from rest.
+        blown = ~(np.isfinite(found.y_start) & np.isfinite(found.v_start))
+        y = np.where(blown, rest, found.y_start)
+        v = np.where(blown, 0.0, found.v_start)
+        span = np.where(found.settled & ~blown, found.app, 0.0)
         period = np.maximum(found.period, 1)
         columns["app_m"].append(found.app.tolist())
         columns["ymin_m"].append(found.ymin.tolist())

@@ -7,7 +7,7 @@ import numpy as np
 from perturb import PAPER_PANEL_FRACTIONS
 
 from ._claims import Claim
-from ._scene import COEXISTENCE_POINTS, PaperScene
+from ._scene import PaperScene
 
 __all__ = ["bistability", "contact_loss", "coexistence_740", "coexistence_490"]
 
@@ -66,7 +66,6 @@ def _census_claim(scene: PaperScene, key: str, claim_id: str, statement: str,
 
 
 def coexistence_740(scene: PaperScene) -> Claim:
-    f, frac = COEXISTENCE_POINTS["740 Hz, 0.15Q"]
     return _census_claim(
         scene, "740 Hz, 0.15Q", "coexistence_740",
         "for P_a = 0.15Q the primary resonance and the 1/2 superharmonic resonance can be "

@@ -17,14 +17,13 @@ from numerics.plots import (
     plot_hysteresis,
     plot_natural_frequency,
 )
+from perturb import PAPER_HYSTERESIS_POINT
 
 from ._scene import PaperScene
 from ._work_precision import WorkPrecision
 
 __all__ = ["draw_figures", "plot_work_precision"]
 
-#: Fig. 5 of the paper: the hysteresis loop at 1600 Hz, 0.40Q.
-FIG5_POINT = (1600.0, 0.40)
 
 
 def plot_work_precision(result: WorkPrecision, path=None) -> Figure:
@@ -63,7 +62,8 @@ def draw_figures(scene: PaperScene, work: WorkPrecision | None, out: Path) -> di
             "fig4-natural-frequency.png",
             lambda p: plot_natural_frequency(natural_frequency_vs_height(), p)),
         "Fig. 5: hysteresis loop at 1600 Hz, 0.40Q": (
-            "fig5-hysteresis.png", lambda p: plot_hysteresis(hysteresis_loop(*FIG5_POINT), p)),
+            "fig5-hysteresis.png",
+            lambda p: plot_hysteresis(hysteresis_loop(*PAPER_HYSTERESIS_POINT), p)),
         "The exact backbone (period quadrature)": (
             "backbone.png", lambda p: plot_backbone(scene.backbone, p)),
     }

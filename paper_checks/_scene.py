@@ -14,12 +14,12 @@ import numpy as np
 
 from numerics import attractors, exact_backbone, steady_states, sweep
 from numerics._info import model_info
-from perturb import PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, derive
+from perturb import PAPER, PAPER_BAND_HZ, PAPER_COEXISTENCE, PAPER_PANEL_FRACTIONS, derive
 
 __all__ = ["PaperScene", "COEXISTENCE_POINTS"]
 
 #: Section 3.3: (f_e [Hz], P_a / Q) where the paper reports coexisting solutions.
-COEXISTENCE_POINTS = {"740 Hz, 0.15Q": (740.0, 0.15), "490 Hz, 0.50Q": (490.0, 0.50)}
+COEXISTENCE_POINTS = PAPER_COEXISTENCE
 
 
 class PaperScene:

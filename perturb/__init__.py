@@ -20,7 +20,10 @@ from ._paper_names import PAPER_DIFFERENCES, PAPER_NAMES, paper_names
 from ._parameters import (
     PAPER,
     PAPER_BAND_HZ,
+    PAPER_COEXISTENCE,
+    PAPER_CUBE_SIDE_M,
     PAPER_F_N0_HZ,
+    PAPER_HYSTERESIS_POINT,
     PAPER_PANEL_FRACTIONS,
     ContactParameters,
 )
@@ -40,8 +43,11 @@ __all__ = [
     "LINEAR",
     "PAPER",
     "PAPER_BAND_HZ",
+    "PAPER_COEXISTENCE",
+    "PAPER_CUBE_SIDE_M",
     "PAPER_DIFFERENCES",
     "PAPER_F_N0_HZ",
+    "PAPER_HYSTERESIS_POINT",
     "PAPER_NAMES",
     "PAPER_PANEL_FRACTIONS",
     "Response",

@@ -12,6 +12,9 @@ from dataclasses import asdict, dataclass, fields
 __all__ = [
     "ContactParameters",
     "PAPER",
+    "PAPER_COEXISTENCE",
+    "PAPER_CUBE_SIDE_M",
+    "PAPER_HYSTERESIS_POINT",
     "PAPER_F_N0_HZ",
     "PAPER_PANEL_FRACTIONS",
     "PAPER_BAND_HZ",
@@ -111,3 +114,11 @@ PAPER_CUBE_SIDE_M = 0.03
 
 #: The frequency band of Fig. 2 and 3 [Hz].
 PAPER_BAND_HZ = (250.0, 1800.0)
+
+#: Section 3.3: where the paper reports coexisting solutions, as (f_e [Hz], P_a / Q):
+#: the primary and the 1/2 superharmonic at 740 Hz, 0.15Q; the primary, the 1/2 and
+#: the 1/3 superharmonic at 490 Hz, 0.50Q.
+PAPER_COEXISTENCE = {"740 Hz, 0.15Q": (740.0, 0.15), "490 Hz, 0.50Q": (490.0, 0.50)}
+
+#: Fig. 5: the hysteresis loop of the contact at f_e = 1600 Hz, P_a = 0.40Q.
+PAPER_HYSTERESIS_POINT = (1600.0, 0.40)

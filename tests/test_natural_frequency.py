@@ -4,8 +4,7 @@ import numpy as np
 import pytest
 
 from numerics._natural_frequency import natural_frequency_vs_height, steel_density
-from perturb import PAPER, PAPER_F_N0_HZ, ContactModel, ContactParameters, Eq26
-from perturb._parameters import PAPER_CUBE_SIDE_M
+from perturb import PAPER, PAPER_CUBE_SIDE_M, PAPER_F_N0_HZ, ContactModel, ContactParameters, Eq26
 
 
 def test_density_of_the_paper_cube():

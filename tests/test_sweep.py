@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from numerics import sweep
+from perturb import EQ_2_6, ContactModel
 
 
 def test_shooting_sweep_jumps_where_time_marching_jumps():
@@ -55,6 +56,17 @@ def test_progress_goes_to_stderr_unless_quiet(tmp_path):
     loud = subprocess.run(command, check=True, capture_output=True, text=True)
     quiet = subprocess.run(command + ["--quiet"], check=True, capture_output=True, text=True)
     assert "sweep [" in loud.stderr and quiet.stderr == ""
+
+
+def test_a_lane_that_blows_up_restarts_from_rest():
+    # Regression: Eq. 2.6's quadratic spring has no floor; at 0.15 Q the down sweep's
+    # state escapes to -infinity near the bent peak, and the next point used to raise
+    # on a NaN initial state. It is now not settled, and the sweep goes on from rest.
+    result = sweep(np.linspace(250.0, 1800.0, 156), [0.15], direction="down",
+                   model=ContactModel(effects=EQ_2_6))
+    run = result.runs[0]
+    assert not all(run.settled)
+    assert run.settled[-1] and np.isfinite(run.app_m[-1])
 
 
 @pytest.mark.parametrize(

@@ -30,9 +30,12 @@ from functools import lru_cache
 import sympy as sp
 
 from . import _series_symbols as sym
+from . import _symbols as model_symbols
+from ._eq26 import Eq26
 from ._harmonics import Term, by_harmonic, merge, multiply, solution_term
 
 __all__ = ["derive", "Series", "OrderEquation", "transfer", "gain_closed_form", "lag_closed_form"]
+__all__ += ["equation_2_6", "eq26_substitution"]
 
 
 def transfer(k: int) -> sp.Expr:
@@ -197,6 +200,41 @@ class Series:
         bs = [sym.b(n) if self.has_b(n) else 0 for n in range(1, self.order + 1)]
         harmonics = [self.harmonics(n) for n in range(self.order + 1)]
         return f"Series(order={self.order}, b={bs}, harmonics={harmonics})"
+
+
+def equation_2_6(u: sp.Expr) -> sp.Expr:
+    """Left minus right side of Eq. 2.6 in the series' symbols (eps = 1)."""
+    t = sym.t
+    return (
+        sp.diff(u, t, 2)
+        + 2 * sym.c * sp.diff(u, t)
+        + sym.omega0**2 * u
+        + sym.h * u**2
+        - sym.G * sp.cos(sym.Omega * t)
+    )
+
+
+def eq26_substitution(eq: Eq26) -> dict[sp.Symbol, sp.Expr]:
+    """The series' symbols c, h, G, omega0, Omega, t as the model's expressions.
+
+    The series is derived for Eq. 2.6 with these coefficients; ``Eq26`` derives
+    them from the physical model (Eq. 2.5), so that substituting this map into
+    :func:`equation_2_6` gives ``Eq26.equation``.
+
+    Examples
+    --------
+    >>> subs = eq26_substitution(Eq26())
+    >>> subs[sym.Omega]
+    2*pi*f_e
+    """
+    return {
+        sym.c: eq.c,
+        sym.h: eq.h,
+        sym.G: eq.G,
+        sym.omega0: sp.sqrt(eq.omega0_squared),
+        sym.Omega: 2 * sp.pi * model_symbols.f_e,
+        sym.t: model_symbols.t,
+    }
 
 
 @lru_cache(maxsize=None)

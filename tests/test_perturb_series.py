@@ -153,3 +153,37 @@ def test_series_summary_and_missing_harmonic():
     assert "Series(order=2" in repr(series)
     with pytest.raises(ValueError, match="`n` must be in 0..2"):
         series.harmonics(3)
+
+
+def test_series_is_derived_for_the_models_eq26():
+    # The engine's Eq. 2.6, with c, h, G, omega0 of Eq26 (derived from Eq. 2.1-2.5).
+    from perturb import Eq26
+    from perturb import symbols as model
+    from perturb._lindstedt import eq26_substitution, equation_2_6
+
+    eq = Eq26()
+    u = sp.Function("u")
+    ours = equation_2_6(u(sym.t)).xreplace(eq26_substitution(eq))
+    assert sp.simplify(ours - eq.equation(u(model.t))) == 0
+
+
+def test_residual_vanishes_symbolically_at_order_1():
+    """All parameters symbolic: the eps^0 and eps^1 parts of the residual vanish."""
+    series = derive(1)
+    env = {sym.complex_amplitude(0, 1): A0, sym.complex_amplitude(0, 1, True): A0}
+    for symbol, expr in complex_chain(series):
+        env[symbol] = expr.xreplace(env)
+    t, eps, Omega, c, omega = sym.t, sym.eps, sym.Omega, sym.c, sym.omega
+    z12 = env[sym.complex_amplitude(1, 2)]
+    u = A0 * sp.cos(Omega * t) + eps * (
+        env[sym.amplitude(1, 0)]
+        + sp.re(z12) * sp.cos(2 * Omega * t)
+        - sp.im(z12) * sp.sin(2 * Omega * t)
+    )
+    d1 = A0 * (omega**2 - Omega**2 + 2 * sp.I * c * Omega)
+    drive = sp.re(d1) * sp.cos(Omega * t) - sp.im(d1) * sp.sin(Omega * t)
+    residual = sp.diff(u, t, 2) + 2 * c * sp.diff(u, t) + omega**2 * u + eps * sym.h * u**2 - drive
+    residual = sp.expand(residual)
+    for power in (0, 1):
+        assert sp.simplify(residual.coeff(eps, power)) == 0, power
+    assert sp.simplify(residual.coeff(eps, 2)) != 0

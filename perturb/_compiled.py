@@ -24,6 +24,7 @@ from functools import lru_cache
 from typing import Callable
 
 import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
 from . import _series_symbols as sym
@@ -110,7 +111,16 @@ class CompiledSeries:
     steps: tuple[_Step, ...]
     arguments: tuple[str, ...] = tuple(str(a) for a in ARGUMENTS)
 
-    def evaluate(self, A0, omega, Omega, c, h, *, until: str | None = None) -> dict:
+    def evaluate(
+        self,
+        A0: npt.ArrayLike,
+        omega: npt.ArrayLike,
+        Omega: npt.ArrayLike,
+        c: npt.ArrayLike,
+        h: npt.ArrayLike,
+        *,
+        until: str | None = None,
+    ) -> dict[str, np.ndarray]:
         """Run the chain; return every assigned value by name (z_n_k complex)."""
         env = dict(
             zip(self.arguments, np.broadcast_arrays(*map(np.asarray, (A0, omega, Omega, c, h))))
@@ -127,21 +137,21 @@ class CompiledSeries:
                 break
         return env
 
-    def b(self, A0, omega, Omega, c, h) -> list[np.ndarray]:
+    def b(self, *args: npt.ArrayLike) -> list[np.ndarray]:
         """The non-zero b_n (real), one per entry of ``b_orders``."""
         if not self.b_orders:
             return []
-        env = self.evaluate(A0, omega, Omega, c, h, until=f"b_{self.b_orders[-1]}")
+        env = self.evaluate(*args, until=f"b_{self.b_orders[-1]}")
         return [env[f"b_{n}"] for n in self.b_orders]
 
-    def frequency_shift(self, A0, omega, Omega, c, h) -> np.ndarray:
-        """sum_n b_n = omega^2 - omega0^2 (Eq. 2.7)."""
-        values = self.b(A0, omega, Omega, c, h)
-        return sum(values) if values else np.zeros(np.broadcast(A0, omega, Omega, c, h).shape)
+    def frequency_shift(self, *args: npt.ArrayLike) -> np.ndarray:
+        """sum_n b_n = omega^2 - omega0^2 (Eq. 2.7); arguments as ``evaluate``."""
+        values = self.b(*args)
+        return sum(values) if values else np.zeros(np.broadcast(*args).shape)
 
-    def amplitudes(self, A0, omega, Omega, c, h) -> list[np.ndarray]:
+    def amplitudes(self, *args: npt.ArrayLike) -> list[np.ndarray]:
         """Complex z_n_k (real for means), one per entry of ``keys``, with phi0 = 0."""
-        env = self.evaluate(A0, omega, Omega, c, h)
+        env = self.evaluate(*args)
         return [env[f"A_{n}_0"] if k == 0 else env[f"z_{n}_{k}"] for n, k in self.keys]
 
     def harmonics(self, amplitudes: list[np.ndarray]) -> np.ndarray:
@@ -153,7 +163,7 @@ class CompiledSeries:
             total[..., k] += z
         return total
 
-    def waveform(self, theta, A0, omega, Omega, c, h) -> np.ndarray:
+    def waveform(self, theta: npt.ArrayLike, *args: npt.ArrayLike) -> np.ndarray:
         """The reconstructed u = sum_n u_n at phases ``theta`` = Omega t (phi0 = 0).
 
         Returns an array of shape ``broadcast(args).shape + theta.shape``.
@@ -166,7 +176,7 @@ class CompiledSeries:
         [2.0, -2.0]
         """
         theta = np.asarray(theta, dtype=float)
-        per_harmonic = self.harmonics(self.amplitudes(A0, omega, Omega, c, h))
+        per_harmonic = self.harmonics(self.amplitudes(*args))
         basis = np.exp(1j * np.multiply.outer(np.arange(per_harmonic.shape[-1]), theta))
         return np.tensordot(per_harmonic, basis, axes=1).real
 

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
+import numpy.typing as npt
 
 from ._compiled import CompiledSeries, compile_series
 from ._eq26 import Eq26
@@ -234,7 +235,7 @@ def _check_frequencies(frequencies_hz) -> np.ndarray:
 
 
 def frequency_response(
-    frequencies_hz,
+    frequencies_hz: npt.ArrayLike,
     pa_frac: float,
     order: int = 6,
     *,
@@ -271,7 +272,9 @@ def frequency_response(
     Returns
     -------
     Response
-        Branches with f_e, App, A0, omega, min and max of u, and validity.
+        Branches with f_e, App, A0, omega, min and max of u, and validity. A
+        frequency where no omega in ``omega_range`` solves the equation (the
+        truncated series has no bounded response there) has no point.
     """
     freq = _check_frequencies(frequencies_hz)
     pa_frac = check_positive("pa_frac", pa_frac, allow_zero=True)

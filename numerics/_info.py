@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 from perturb import ContactModel, Eq26
 
 __all__ = ["model_info", "format_info"]
@@ -21,12 +19,7 @@ _DESCRIPTIONS = {
 
 def model_info(model: ContactModel | None = None) -> dict[str, float]:
     """The figures of Eq. 2.6 for the model (the paper's by default)."""
-    return dict(_figures((model or ContactModel()).parameters))
-
-
-@lru_cache(maxsize=64)
-def _figures(parameters) -> tuple:
-    return tuple(Eq26(ContactModel(parameters)).numeric().items())
+    return Eq26(model).numeric()  # cached per parameter set by perturb
 
 
 def format_info(info: dict[str, float]) -> str:

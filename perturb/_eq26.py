@@ -12,7 +12,7 @@ Each coefficient below is a derivative of a force of ``ContactModel``.
 from __future__ import annotations
 
 import math
-from functools import cached_property
+from functools import cache, cached_property, lru_cache
 
 import sympy as sp
 
@@ -20,6 +20,33 @@ from ._model import ContactModel
 from ._symbols import M, P_a, f_e, g, t, v, y
 
 __all__ = ["Eq26"]
+
+
+# The symbolic laws do not depend on the parameter values: each derivation below
+# is done once per process, whatever the parameters.
+@cache
+def _force_derivative(order: int) -> sp.Expr:
+    """d^k F_k / dy^k at y0, with F_k = F_s + Q in contact (Eq. 2.3)."""
+    model = ContactModel()
+    force = model.power_spring(y) + M * g
+    return sp.simplify(sp.diff(force, y, order).subs(y, model.static_deflection))
+
+
+@cache
+def _stiffness_coefficient(j: int) -> sp.Expr:
+    return sp.simplify(-_force_derivative(j) / (sp.factorial(j) * M))
+
+
+@cache
+def _two_c() -> sp.Expr:
+    model = ContactModel()
+    damping = model.power_damping(y, v)
+    return sp.simplify(-sp.diff(damping, v).subs(y, model.static_deflection) / M)
+
+
+@lru_cache(maxsize=128)
+def _numeric_figures(parameters) -> tuple:
+    return tuple(Eq26(ContactModel(parameters))._numeric().items())
 
 
 class Eq26:
@@ -49,20 +76,13 @@ class Eq26:
     def y0(self) -> sp.Expr:
         return self.model.static_deflection
 
-    def _conservative_force(self) -> sp.Expr:
-        """F_k = F_s + Q in contact (Eq. 2.3), as a function of y."""
-        return self.model.power_spring(y) + M * g
-
     def force_derivative(self, order: int) -> sp.Expr:
         """d^k F_k / dy^k at y0."""
-        return sp.simplify(sp.diff(self._conservative_force(), y, order).subs(y, self.y0))
+        return _force_derivative(order)
 
     def stiffness_coefficients(self, degree: int) -> list[sp.Expr]:
         """k_j with F_k(y0 + u)/M = -sum_j k_j u^j, for j = 0..degree (Eq. 2.5)."""
-        return [
-            sp.simplify(-self.force_derivative(j) / (sp.factorial(j) * M))
-            for j in range(degree + 1)
-        ]
+        return [_stiffness_coefficient(j) for j in range(degree + 1)]
 
     @cached_property
     def omega0_squared(self) -> sp.Expr:
@@ -74,11 +94,10 @@ class Eq26:
         """eps*h = (1/2) M^-1 S c_n m2 (m2-1) y0^(m2-2) (Eq. 2.6)."""
         return self.stiffness_coefficients(2)[2]
 
-    @cached_property
+    @property
     def two_c(self) -> sp.Expr:
         """2c = M^-1 S h_n y0^l: minus d F_d / d ydot at y0, over M (Eq. 2.5, 2.6)."""
-        damping = self.model.power_damping(y, v)
-        return sp.simplify(-sp.diff(damping, v).subs(y, self.y0) / M)
+        return _two_c()
 
     @cached_property
     def c(self) -> sp.Expr:
@@ -107,6 +126,9 @@ class Eq26:
 
     def numeric(self) -> dict[str, float]:
         """The model's figures in SI units, with unit-suffixed keys."""
+        return dict(_numeric_figures(self.model.parameters))
+
+    def _numeric(self) -> dict[str, float]:
         value = self.model.numeric
         omega0 = math.sqrt(value(self.omega0_squared))
         c = value(self.c)

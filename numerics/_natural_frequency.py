@@ -13,9 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from perturb import PAPER, PAPER_F_N0_HZ, ContactModel, ContactParameters, Eq26
+from perturb import PAPER, PAPER_CUBE_SIDE_M, PAPER_F_N0_HZ, ContactModel, ContactParameters, Eq26
 from perturb import symbols as sym
-from perturb._parameters import PAPER_CUBE_SIDE_M
 
 __all__ = ["HeightSweep", "natural_frequency_vs_height", "steel_density"]
 

@@ -1,6 +1,6 @@
 """Command line of the perturbation engine: ``python -m perturb {derive,backbone,response}``.
 
-- ``derive --order N [--latex FILE] [--json FILE]``: the series of Eq. 2.6
+- ``derive --order N [--latex FILE] [--json FILE] [--pretty]``: the series of Eq. 2.6
   printed order by order (text on stdout).
 - ``backbone --order N [--json FILE]``: omega/omega0 of the free undamped
   oscillator as exact coefficients of alpha = h a / omega0^2.
@@ -43,7 +43,7 @@ def _derive(args: argparse.Namespace) -> None:
     _progress(args, f"deriving Eq. 2.6 to order {args.order} ...")
     series = derive(args.order)
     _progress(args, f"derived in {time.perf_counter() - start:.2f} s")
-    print(text_report(series), end="")
+    print(text_report(series, pretty=args.pretty), end="")
     if args.latex:
         with open(args.latex, "w", encoding="utf-8") as handle:
             handle.write(latex_report(series))
@@ -116,6 +116,7 @@ def _parser() -> argparse.ArgumentParser:
     derive_cmd.add_argument("--order", type=_order, required=True)
     derive_cmd.add_argument("--latex", metavar="FILE")
     derive_cmd.add_argument("--json", metavar="FILE")
+    derive_cmd.add_argument("--pretty", action="store_true", help="2-d unicode formulas")
     derive_cmd.set_defaults(run=_derive)
 
     backbone_cmd = commands.add_parser("backbone", help="backbone series omega/omega0(alpha)")

@@ -8,7 +8,7 @@ the series of omega^2 (Eq. 2.7).
 Examples
 --------
 >>> from perturb._lindstedt import derive
->>> print(text_report(derive(1)).splitlines()[10])
+>>> print(text_report(derive(1)).splitlines()[11])
   u_1'' + 2*c*u_1' + omega**2*u_1 = b_1*u_0 - h*u_0**2
 """
 
@@ -105,22 +105,41 @@ def _transfer_lines(series: Series) -> list[tuple[sp.Expr, sp.Expr]]:
     return lines
 
 
-def text_report(series: Series) -> str:
-    """The derivation as plain text, order by order."""
+def _line(left: sp.Expr, right: sp.Expr, pretty: bool) -> str:
+    if pretty:
+        return sp.pretty(sp.Eq(left, right, evaluate=False), use_unicode=True, wrap_line=False)
+    return f"{sp.sstr(left)} = {sp.sstr(right)}"
+
+
+def text_report(series: Series, *, pretty: bool = False) -> str:
+    """The derivation as text, order by order.
+
+    Parameters
+    ----------
+    series : Series
+    pretty : bool
+        Two-dimensional unicode formulas (``sympy.pretty``) instead of one-line
+        expressions.
+    """
+
+    def block(left: sp.Expr, right: sp.Expr, indent: str) -> list[str]:
+        return [indent + row for row in _line(left, right, pretty).splitlines()]
+
     lines = [
         f"Perturbation series of Eq. 2.6 to order {series.order}",
         "Eq. 2.6: u'' + 2*c*u' + omega0**2*u + eps*h*u**2 = G*cos(Omega*t)",
-        f"Eq. 2.7: omega**2 = {sp.sstr(series.omega_squared())}",
+        "Eq. 2.7:",
+        *block(sym.omega**2, series.omega_squared(), "  "),
         "Transfer of harmonic k: H_k*exp(I*theta_k) = 1/(omega**2 - k**2*Omega**2 + 2*I*k*c*Omega)",
     ]
     for n in range(series.order + 1):
         lines.append(f"-- eps^{n}")
         lines.append(f"  {_left_side_text(n)} = {sp.sstr(generic_right_side(n))}")
         for label, left, right in _order_items(series, n):
-            indent = "    " if label == "closed form" else "  "
-            lines.append(f"{indent}{sp.sstr(left)} = {sp.sstr(right)}")
+            lines += block(left, right, "    " if label == "closed form" else "  ")
     lines.append("-- transfer functions")
-    lines += [f"  {sp.sstr(left)} = {sp.sstr(right)}" for left, right in _transfer_lines(series)]
+    for left, right in _transfer_lines(series):
+        lines += block(left, right, "  ")
     return "\n".join(lines) + "\n"
 
 

@@ -121,3 +121,9 @@ def test_cli_rejects_bad_input(args, message, capsys):
     with pytest.raises(SystemExit) as stop:
         main(args)
     assert stop.value.code == 2 and message in capsys.readouterr().err
+
+
+def test_cli_derive_pretty(capsys):
+    assert main(["--quiet", "derive", "--order", "2", "--pretty"]) == 0
+    out = capsys.readouterr()
+    assert "b₂ = 2⋅A₁ ₀⋅h + A₁ ₂⋅h⋅cos(2⋅φ₀ ₁ - φ₁ ₂)" in out.out and out.err == ""

@@ -13,6 +13,7 @@ from numerics.plots import (
     plot_app,
     plot_backbone,
     plot_census,
+    plot_comparison,
     plot_extrema,
     plot_hysteresis,
     plot_natural_frequency,
@@ -66,6 +67,8 @@ def draw_figures(scene: PaperScene, work: WorkPrecision | None, out: Path) -> di
             lambda p: plot_hysteresis(hysteresis_loop(*PAPER_HYSTERESIS_POINT), p)),
         "The exact backbone (period quadrature)": (
             "backbone.png", lambda p: plot_backbone(scene.backbone, p)),
+        "Analytic against numerical: backbones and resonance curves": (
+            "analytic-vs-numerical.png", lambda p: plot_comparison(scene.comparison, p)),
     }
     for name, census in scene.censuses.items():
         slug = name.split(",")[0].replace(" ", "").lower()

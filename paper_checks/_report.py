@@ -7,6 +7,7 @@ import json
 import time
 from pathlib import Path
 
+from numerics._compare_table import format_comparison
 from numerics._info import format_info
 from perturb import text_report
 
@@ -102,6 +103,10 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
     lines += _claims_section(claims) + [""]
     lines += ["## Figures", ""] + [f"### {caption}\n\n![{caption}]({file})\n"
                                    for caption, file in figures.items()]
+    lines += ["## Analytic against numerical", "",
+              "Series of each order against the exact backbone and against RK4 steady states "
+              "of the Eq. 2.6 model and of the full model (`python -m numerics compare`).", "",
+              "```", format_comparison(scene.comparison), "```", ""]
     lines += ["## The perturbation series to ε⁴ (Eq. 2.7–2.10, A.1, A.2)", "", "```",
               text_report(scene.series), "```", ""]
     lines += _work_section(work)

@@ -12,7 +12,7 @@ from functools import cached_property
 
 import numpy as np
 
-from numerics import attractors, exact_backbone, steady_states, sweep
+from numerics import attractors, compare, exact_backbone, steady_states, sweep
 from numerics._info import model_info
 from perturb import PAPER, PAPER_BAND_HZ, PAPER_COEXISTENCE, PAPER_PANEL_FRACTIONS, derive
 
@@ -20,6 +20,8 @@ __all__ = ["PaperScene", "COEXISTENCE_POINTS"]
 
 #: Section 3.3: (f_e [Hz], P_a / Q) where the paper reports coexisting solutions.
 COEXISTENCE_POINTS = PAPER_COEXISTENCE
+#: Force amplitudes at which the series is compared with RK4 (the series needs contact).
+COMPARED_FRACTIONS = (0.05, 0.10, 0.15)
 
 
 class PaperScene:
@@ -76,6 +78,16 @@ class PaperScene:
         points = 60 if self.quick else 200
         return self._timed("exact backbone", f"{points} energy levels, period quadrature",
                            lambda: exact_backbone(points=points))
+
+    @cached_property
+    def comparison(self):
+        """Series of orders 2..8 against the exact backbone and RK4 (Eq. 2.6 and full)."""
+        orders = (2, 4, 6) if self.quick else (2, 4, 6, 8)
+        return self._timed(
+            "analytic against numerical", f"orders {orders}, P_a = 0.05, 0.10, 0.15 Q, "
+            f"{self.grid_hz.size} frequencies, up and down, both models",
+            lambda: compare(orders, COMPARED_FRACTIONS, frequencies_hz=self.grid_hz),
+        )
 
     @cached_property
     def series(self):

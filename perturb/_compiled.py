@@ -37,6 +37,14 @@ A0 = sp.Symbol("A0", positive=True)
 ARGUMENTS = (A0, sym.omega, sym.Omega, sym.c, sym.h)
 
 
+# Eq. 2.8 in the frame of u0: z_0_1 = conj(z_0_1) = A_0_1 = A0.
+_FRAME = {
+    sym.complex_amplitude(0, 1): A0,
+    sym.complex_amplitude(0, 1, True): A0,
+    sym.amplitude(0, 1): A0,
+}
+
+
 def complex_chain(series: Series) -> list[tuple[sp.Symbol, sp.Expr]]:
     """The closed forms as ordered assignments ``symbol = expression``.
 
@@ -60,14 +68,6 @@ def complex_chain(series: Series) -> list[tuple[sp.Symbol, sp.Expr]]:
             else:
                 chain.append((sym.complex_amplitude(n, k), value * transfer(k)))
     return chain
-
-
-# Eq. 2.8 in the frame of u0: z_0_1 = conj(z_0_1) = A_0_1 = A0.
-_FRAME = {
-    sym.complex_amplitude(0, 1): A0,
-    sym.complex_amplitude(0, 1, True): A0,
-    sym.amplitude(0, 1): A0,
-}
 
 
 @dataclass(frozen=True)

@@ -76,12 +76,15 @@ class Term:
             bs=tuple(sorted(self.bs + bs)),
         )
 
+    def _prefactor(self) -> sp.Expr:
+        """number * h**h_power * prod(b_j): the part without amplitudes."""
+        value = sp.Rational(self.number.numerator, self.number.denominator) * sym.h**self.h_power
+        return value * sp.Mul(*(sym.b(j) for j in self.bs))
+
     # -- the printed form (cosine with amplitude and phase) -------------
     def coefficient(self) -> sp.Expr:
         """The real coefficient in front of the cosine."""
-        value = sp.Rational(self.number.numerator, self.number.denominator) * sym.h**self.h_power
-        for j in self.bs:
-            value *= sym.b(j)
+        value = self._prefactor()
         for f in self.factors:
             value *= sym.amplitude(f.order, f.harmonic)
         return value
@@ -95,9 +98,7 @@ class Term:
     # -- the complex form ----------------------------------------------
     def value(self, conjugate: bool = False) -> sp.Expr:
         """``coefficient * exp(i phase)`` written with z_n_k (or its conjugate)."""
-        value = sp.Rational(self.number.numerator, self.number.denominator) * sym.h**self.h_power
-        for j in self.bs:
-            value *= sym.b(j)
+        value = self._prefactor()
         for f in self.factors:
             if f.is_mean:
                 value *= sym.amplitude(f.order, 0)

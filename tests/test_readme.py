@@ -20,9 +20,9 @@ COMMANDS = [
 ]
 
 
-@pytest.mark.parametrize("code", PYTHON_BLOCKS, ids=lambda code: code.splitlines()[0][:40])
-def test_python_example_runs(code):
-    exec(compile(code, "README.md", "exec"), {})
+def test_python_examples_are_sessions_that_show_their_output():
+    # A ```python block would only be run, not checked: the README uses ```pycon.
+    assert not PYTHON_BLOCKS
 
 
 @pytest.mark.parametrize("session", PYCON_BLOCKS, ids=lambda code: code.splitlines()[0][4:44])

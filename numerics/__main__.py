@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
 from ._backbone import exact_backbone
@@ -11,19 +10,13 @@ from ._backbone_table import format_backbone
 from ._cli_compare import add_compare_parser
 from ._cli_steady import add_attractors_parser, add_sweep_parser
 from ._info import format_info, model_info
-
-
-def _write_json(path: str | None, payload: dict) -> None:
-    if path:
-        with open(path, "w") as handle:
-            json.dump(payload, handle, indent=2)
-            handle.write("\n")
+from ._json_file import write_json
 
 
 def _info(args: argparse.Namespace) -> int:
     info = model_info()
     print(format_info(info))
-    _write_json(args.json, info)
+    write_json(args.json, info)
     return 0
 
 
@@ -32,7 +25,7 @@ def _backbone(args: argparse.Namespace) -> int:
         print(f"backbone: {args.points} energy levels ...", file=sys.stderr)
     backbone = exact_backbone(points=args.points)
     print(format_backbone(backbone))
-    _write_json(args.json, backbone.as_json())
+    write_json(args.json, backbone.as_json())
     return 0
 
 

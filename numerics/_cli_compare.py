@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 from ._compare import compare
 from ._compare_table import format_comparison
+from ._json_file import write_json
 
 __all__ = ["add_compare_parser"]
 
@@ -30,10 +30,7 @@ def _compare(args: argparse.Namespace) -> int:
         raise SystemExit(f"orders and --pa-frac must be >= 0, got {args.orders}, {args.pa_frac}")
     result = compare(sorted(set(args.orders)), sorted(set(args.pa_frac)), quiet=args.quiet)
     print(format_comparison(result))
-    if args.json:
-        with open(args.json, "w") as handle:
-            json.dump(result.as_json(), handle, indent=1)
-            handle.write("\n")
+    write_json(args.json, result.as_json())
     if args.plot:
         from .plots import plot_comparison  # matplotlib only when a plot is asked for
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
 import numpy as np
@@ -11,17 +10,11 @@ import numpy as np
 from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS
 
 from ._attractors import attractors
+from ._json_file import write_json
 from ._steady import DEFAULTS
 from ._sweep import DIRECTIONS, sweep
 
 __all__ = ["add_sweep_parser", "add_attractors_parser"]
-
-
-def _write_json(path: str | None, payload: dict) -> None:
-    if path:
-        with open(path, "w") as handle:
-            json.dump(payload, handle, indent=1)
-            handle.write("\n")
 
 
 def _accuracy_options(parser: argparse.ArgumentParser) -> None:
@@ -60,7 +53,7 @@ def _sweep(args: argparse.Namespace) -> int:
         print(f"  P_a = {run.pa_frac:.2f} Q {run.direction:>4}: max App "
               f"{max(run.app_m) * 1e9:9.1f} nm, jumps at "
               f"{[run.frequency_hz[i] for i in run.jumps()]} Hz, contact lost at {lost} points")
-    _write_json(args.json, result.as_dict())
+    write_json(args.json, result.as_dict())
     if args.plot:
         from .plots import plot_app, plot_extrema
 
@@ -83,5 +76,5 @@ def _attractors(args: argparse.Namespace) -> int:
         print(f"attractors at {args.fe} Hz, {args.pa_frac} Q ...", file=sys.stderr)
     census = attractors(args.fe, args.pa_frac, steps_per_period=args.steps, tol=args.tol)
     print(census)
-    _write_json(args.json, census.as_dict())
+    write_json(args.json, census.as_dict())
     return 0

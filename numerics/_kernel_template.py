@@ -41,12 +41,16 @@ def rk4_step(y, v, dt, force_start, force_mid, force_end):
     return y_next, v_next
 
 
+@numba.njit(cache=True, inline="always")
+def drive_at_step(drive, k):
+    """The drive cos(2 pi t f_e) at the start, middle and end of step k (RK4's stages)."""
+    return drive[2 * k], drive[2 * k + 1], drive[2 * k + 2]
+
+
 @numba.njit(cache=True)
 def advance_step(y, v, dt, p_a, drive, k):
     """Advance every lane by step k of the period (drive: cos table, 2N + 1 long)."""
-    c0 = drive[2 * k]
-    ch = drive[2 * k + 1]
-    c1 = drive[2 * k + 2]
+    c0, ch, c1 = drive_at_step(drive, k)
     for lane in range(y.shape[0]):
         y[lane], v[lane] = rk4_step(
             y[lane], v[lane], dt[lane], p_a[lane] * c0, p_a[lane] * ch, p_a[lane] * c1
@@ -124,9 +128,7 @@ def record_periods(
         ext_count[lane] = 0
     for period in range(periods):
         for k in range(steps):
-            c0 = drive[2 * k]
-            ch = drive[2 * k + 1]
-            c1 = drive[2 * k + 2]
+            c0, ch, c1 = drive_at_step(drive, k)
             for lane in range(lanes):
                 y0 = y[lane]
                 v0 = v[lane]
@@ -206,9 +208,7 @@ def shoot_periods(y, v, dt, p_a, drive, periods, monodromy):
     m[3, :] = 1.0
     for _ in range(periods):
         for k in range(steps):
-            c0 = drive[2 * k]
-            ch = drive[2 * k + 1]
-            c1 = drive[2 * k + 2]
+            c0, ch, c1 = drive_at_step(drive, k)
             for lane in range(lanes):
                 pa = p_a[lane]
                 yy, vv = y[lane], v[lane]

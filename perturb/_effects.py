@@ -6,7 +6,7 @@ names the effects it needs and the simulator builds only those.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 __all__ = ["Effects", "FULL", "EQ_2_6", "LINEAR"]
 
@@ -75,9 +75,6 @@ class Effects:
             "gravity" if self.gravity else "no gravity",
         ]
         return ", ".join(parts)
-
-    def with_(self, **changes) -> "Effects":
-        return replace(self, **changes)
 
 
 #: Eq. 2.1-2.4: every effect on.

@@ -40,6 +40,8 @@ class SweepRun:
     period: list[int]
     settled: list[bool]
     method: list[str] = field(default_factory=list)
+    y_start_m: list[float] = field(default_factory=list)  # the orbit's state at phase 0
+    v_start_m: list[float] = field(default_factory=list)
 
     @property
     def contact_lost(self) -> np.ndarray:
@@ -79,8 +81,10 @@ class Sweep:
 
 
 def _run_dict(run: SweepRun) -> dict:
+    """The documented JSON keys of a run (method and orbit states stay in Python)."""
     out = asdict(run)
-    out.pop("method")
+    for key in ("method", "y_start_m", "v_start_m"):
+        out.pop(key)
     return out
 
 
@@ -151,7 +155,7 @@ def _sweep_lanes(freq, p_a, model, steps, tol, max_periods, method, quiet) -> di
     """Walk every lane through its frequencies; return per-point columns."""
     points = freq.shape[1]
     columns = {k: [] for k in ("app_m", "ymin_m", "ymax_m", "maxima_m", "minima_m", "period",
-                               "settled", "method")}
+                               "settled", "method", "y_start_m", "v_start_m")}
     y = v = span = None
     period = 1
     rest = static_deflection(model)
@@ -175,6 +179,8 @@ def _sweep_lanes(freq, p_a, model, steps, tol, max_periods, method, quiet) -> di
         columns["period"].append(found.period.tolist())
         columns["settled"].append(found.settled.tolist())
         columns["method"].append(found.method.tolist())
+        columns["y_start_m"].append(found.y_start.tolist())
+        columns["v_start_m"].append(found.v_start.tolist())
         bar.advance()
     bar.close()
     return columns

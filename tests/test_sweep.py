@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 
-from numerics import sweep
+from numerics import static_deflection, sweep
 from perturb import EQ_2_6, ContactModel
 
 
@@ -78,3 +78,27 @@ def test_a_lane_that_blows_up_restarts_from_rest():
 def test_bad_input_is_named(args, kwargs, message):
     with pytest.raises(ValueError, match=message):
         sweep(*args, **kwargs)
+
+
+def test_the_bouncing_down_branch_is_an_attractor_for_an_independent_integrator(weight):
+    # The down sweeps from 0.2 Q on stay on a bouncing orbit (App ~ 60 y0) far below the
+    # primary peak. Route 2: scipy's DOP853 (rtol 1e-11), Eq. 2.4 typed here, started on
+    # the toolkit's orbit, must stay on it: same App after 60 periods.
+    from scipy.integrate import solve_ivp
+
+    from perturb import PAPER as p
+
+    run = sweep(np.arange(300.0, 1805.0, 5.0), [0.3], direction="down").runs[0]
+    assert run.ymin_m[-1] < 0 and run.app_m[-1] > 40 * static_deflection(ContactModel())
+    f, p_a, periods = 300.0, 0.3 * weight, 60
+
+    def rhs(t, state):
+        y, v = state
+        contact = -p.S * p.c_n * y**p.m2 - p.S * p.h_n * y**p.l * v if y > 0 else 0.0
+        return (v, (contact + p.M * p.g + p_a * np.cos(2 * np.pi * f * t)) / p.M)
+
+    solution = solve_ivp(rhs, (0.0, periods / f), (run.y_start_m[-1], run.v_start_m[-1]),
+                         method="DOP853", rtol=1e-11, atol=1e-18, dense_output=True,
+                         max_step=1 / (400 * f))
+    last = solution.sol(np.linspace((periods - 1) / f, periods / f, 20001))[0]
+    assert abs(np.ptp(last) / run.app_m[-1] - 1) < 1e-3

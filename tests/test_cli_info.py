@@ -23,9 +23,14 @@ def test_info_prints_and_writes_the_model(tmp_path, paper_figures, weight):
 
 
 def test_paper_checks_quick_writes_the_report(tmp_path):
-    subprocess.run([sys.executable, "-m", "paper_checks", "--quick", "--out", str(tmp_path)],
-                   check=True, capture_output=True)
+    done = subprocess.run(
+        [sys.executable, "-m", "paper_checks", "--quick", "--out", str(tmp_path)],
+        capture_output=True, text=True)
     report = json.loads((tmp_path / "report.json").read_text())
-    assert report["claims"] and all({"id", "statement", "passed", "measured"} <= set(c)
-                                    for c in report["claims"])
-    assert (tmp_path / "report.md").exists()
+    assert len(report["claims"]) == 11 and all(
+        {"id", "statement", "passed", "measured"} <= set(c) for c in report["claims"])
+    failed = [c["id"] for c in report["claims"] if not c["passed"]]
+    assert not failed and done.returncode == 0, (failed, done.stdout)
+    text = (tmp_path / "report.md").read_text()
+    for figure in report["figures"].values():
+        assert (tmp_path / figure).stat().st_size > 10_000 and f"]({figure})" in text

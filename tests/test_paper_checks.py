@@ -1,0 +1,19 @@
+"""`python -m paper_checks --quick`: the report the test suite can afford."""
+
+import json
+import subprocess
+import sys
+
+
+def test_paper_checks_quick_writes_the_report(tmp_path):
+    done = subprocess.run(
+        [sys.executable, "-m", "paper_checks", "--quick", "--out", str(tmp_path)],
+        capture_output=True, text=True)
+    report = json.loads((tmp_path / "report.json").read_text())
+    assert len(report["claims"]) == 11 and all(
+        {"id", "statement", "passed", "measured"} <= set(c) for c in report["claims"])
+    failed = [c["id"] for c in report["claims"] if not c["passed"]]
+    assert not failed and done.returncode == 0, (failed, done.stdout)
+    text = (tmp_path / "report.md").read_text()
+    for figure in report["figures"].values():
+        assert (tmp_path / figure).stat().st_size > 10_000 and f"]({figure})" in text

@@ -9,7 +9,11 @@ The bent peaks have several such omega at one frequency: every root is found,
 by sampling the left minus the right side on a grid of omega (dense where a
 transfer 1/(omega^2 - k^2 Omega^2 + 2 i k c Omega) resonates, k = 1..N+1, which
 is where the superharmonic peaks at f_n0/k live) and refining each sign change
-by the Illinois method, all frequencies at once. The peak-to-peak amplitude
+by the Illinois method, all frequencies at once. Two roots closer than the grid
+spacing (both sides of a fold) change no sign on the grid: where |residual|
+has a local minimum between two neighbours of the same sign, a golden-section
+search follows the residual towards zero and, if it crosses, the two roots on
+either side are refined too. The peak-to-peak amplitude
 App is max - min of the reconstructed u(t) = sum_n u_n(t).
 
 Each point has a validity flag: false where the response would lose contact
@@ -158,6 +162,66 @@ def _omega_grid(Omega, order, values, omega_range, points):
     return np.sort(np.clip(grid, lo, hi), axis=1)
 
 
+def _dip_brackets(grid, f):
+    """(row, lo, mid, hi) where |residual| dips between neighbours of the same sign.
+
+    Two roots closer than the grid spacing (both sides of a fold) leave no sign
+    change on the grid, only a local minimum of |residual| at the middle of
+    three same-signed neighbours.
+    """
+    s, a = np.signbit(f), np.abs(f)
+    dip = (s[:, :-2] == s[:, 1:-1]) & (s[:, 1:-1] == s[:, 2:])
+    dip &= (a[:, 1:-1] < a[:, :-2]) & (a[:, 1:-1] <= a[:, 2:])
+    rows, cols = np.nonzero(dip)
+    return rows, cols, cols + 1, cols + 2
+
+
+_GOLDEN = (3 - np.sqrt(5)) / 2
+
+
+def _cross_dips(formulas, values, G, Omega, lo, mid, hi, g_lo, g_mid, g_hi, iterations=60):
+    """Golden-section search of each dip towards zero, all at once.
+
+    ``g`` is the residual times the sign of the three grid values, so it is
+    positive at ``lo``, ``mid`` and ``hi`` and ``mid`` is lowest. The search
+    narrows the bracket around the minimum of g until g < 0 somewhere (a
+    crossing: a root pair lies in [lo, x] and [x, hi]) or the bracket is
+    negligible (no root there). Returns (lane, x, g(x), lo, g(lo), hi, g(hi))
+    for the crossings.
+    """
+    sign = np.where(g_mid < 0, -1.0, 1.0)
+    lo, mid, hi = (np.array(a, dtype=float) for a in (lo, mid, hi))
+    g_lo, g_mid, g_hi = (np.array(a, dtype=float) * sign for a in (g_lo, g_mid, g_hi))
+    active = np.ones(lo.shape, dtype=bool)
+    for _ in range(iterations):
+        idx = np.flatnonzero(active)
+        if idx.size == 0:
+            break
+        # Probe the larger side of mid at the golden fraction.
+        right = (hi[idx] - mid[idx]) > (mid[idx] - lo[idx])
+        x = np.where(right, mid[idx] + _GOLDEN * (hi[idx] - mid[idx]),
+                     mid[idx] - _GOLDEN * (mid[idx] - lo[idx]))
+        gx = sign[idx] * _residual(formulas, values, G[idx], x, Omega[idx])
+        better = gx < g_mid[idx]
+        # A better probe becomes mid, the old mid an end; otherwise the probe is an end.
+        new_lo = np.where(better, np.where(right, mid[idx], lo[idx]),
+                          np.where(right, lo[idx], x))
+        new_hi = np.where(better, np.where(right, hi[idx], mid[idx]),
+                          np.where(right, x, hi[idx]))
+        new_glo = np.where(better, np.where(right, g_mid[idx], g_lo[idx]),
+                           np.where(right, g_lo[idx], gx))
+        new_ghi = np.where(better, np.where(right, g_hi[idx], g_mid[idx]),
+                           np.where(right, gx, g_hi[idx]))
+        lo[idx], hi[idx], g_lo[idx], g_hi[idx] = new_lo, new_hi, new_glo, new_ghi
+        mid[idx] = np.where(better, x, mid[idx])
+        g_mid[idx] = np.where(better, gx, g_mid[idx])
+        crossed = gx < 0
+        active[idx[crossed | (hi[idx] - lo[idx] <= 1e-13 * hi[idx])]] = False
+    crossing = np.flatnonzero(g_mid < 0)
+    return (crossing, mid[crossing], sign[crossing] * g_mid[crossing], lo[crossing],
+            sign[crossing] * g_lo[crossing], hi[crossing], sign[crossing] * g_hi[crossing])
+
+
 def _illinois(formulas, values, G, Omega, lo, hi, f_lo, f_hi, iterations=80):
     """Refine brackets [lo, hi] with a sign change of the residual, all at once."""
     lo, hi, f_lo, f_hi = (np.array(a, dtype=float) for a in (lo, hi, f_lo, f_hi))
@@ -287,24 +351,28 @@ def frequency_response(
     Omega = 2 * np.pi * freq
     G = pa_frac * values.Q_n * values.G_per_P_a
 
-    grid = _omega_grid(Omega, order, values, omega_range, grid_points)
-    f = _residual(formulas, values, G, grid, Omega[:, None])
-    change = np.signbit(f[:, :-1]) != np.signbit(f[:, 1:])
-    rows, cols = np.nonzero(change)
-    roots = _illinois(
-        formulas,
-        values,
-        np.full(rows.size, G),
-        Omega[rows],
-        grid[rows, cols],
-        grid[rows, cols + 1],
-        f[rows, cols],
-        f[rows, cols + 1],
-    )
+    rows, roots = _roots(formulas, values, G, Omega, order, omega_range, grid_points)
     a0 = G / np.hypot(roots**2 - Omega[rows] ** 2, 2 * values.c * Omega[rows])
     u_max, u_min, sizes = _waveform_extrema(formulas, values, a0, roots, Omega[rows], samples)
     valid = (values.y0_m + u_min > 0) & _converging(sizes, u_max - u_min, tolerance)
     return Response(order, pa_frac, freq, _branches(freq, rows, roots, a0, u_min, u_max, valid))
+
+
+def _roots(formulas, values, G, Omega, order, omega_range, grid_points):
+    """Every root omega of the frequency equation: (frequency index, omega) per root."""
+    grid = _omega_grid(Omega, order, values, omega_range, grid_points)
+    f = _residual(formulas, values, G, grid, Omega[:, None])
+    rows, cols = np.nonzero(np.signbit(f[:, :-1]) != np.signbit(f[:, 1:]))
+    brackets = [(rows, grid[rows, cols], grid[rows, cols + 1], f[rows, cols], f[rows, cols + 1])]
+    d_rows, lo, mid, hi = _dip_brackets(grid, f)
+    lane, x, fx, a, fa, b, fb = _cross_dips(
+        formulas, values, np.full(d_rows.size, G), Omega[d_rows], grid[d_rows, lo],
+        grid[d_rows, mid], grid[d_rows, hi], f[d_rows, lo], f[d_rows, mid], f[d_rows, hi],
+    )
+    brackets += [(d_rows[lane], a, x, fa, fx), (d_rows[lane], x, b, fx, fb)]
+    rows, lo, hi, f_lo, f_hi = (np.concatenate(parts) for parts in zip(*brackets))
+    roots = _illinois(formulas, values, np.full(rows.size, G), Omega[rows], lo, hi, f_lo, f_hi)
+    return rows, roots
 
 
 def _branches(freq, rows, roots, a0, u_min, u_max, valid) -> list[Branch]:

@@ -156,3 +156,19 @@ def test_valid_points_are_accurate_where_the_series_converges_slowly():
         if valid:
             assert abs(app / target[fi] - 1) < 0.01, fi
     assert 2 <= sum(flags) < len(f)
+
+
+def test_close_root_pair_near_a_fold_is_found():
+    # Regression: at 0.05 Q, 1394-1396 Hz the upper and middle responses of the
+    # bent primary peak are closer in omega than the default grid's spacing; with
+    # no sign change between grid points, only one root of three was found (the
+    # upper branch, 327.2 nm, matches RK4's 327.02 nm). A brute grid of 2,000
+    # points sees all three.
+    f = np.linspace(1394.0, 1396.0, 9)
+    found = frequency_response(f, PA_FRAC, 6)
+    brute = frequency_response(f, PA_FRAC, 6, grid_points=2000)
+    assert brute.roots_per_frequency().tolist() == [3] * f.size
+    assert found.roots_per_frequency().tolist() == [3] * f.size
+    for ours, reference in zip(found.branches, brute.branches):
+        np.testing.assert_allclose(ours.omega_rad_s, reference.omega_rad_s, rtol=1e-10)
+        np.testing.assert_allclose(ours.app_m, reference.app_m, rtol=1e-9)

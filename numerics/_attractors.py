@@ -157,7 +157,7 @@ def _cluster(found) -> list[np.ndarray]:
 def _describe(found, members, total, model, f_e, frac, steps) -> Attractor:
     lane = members[0]
     p = int(found.period[lane])
-    orbit = _orbit(found, lane, model, f_e, frac, steps)
+    orbit = _orbit(found, lane, model, f_e, frac, int(found.steps_used[lane]))
     return Attractor(
         period=p, app_m=float(found.app[lane]), ymin_m=float(found.ymin[lane]),
         ymax_m=float(found.ymax[lane]), basin_fraction=members.size / total,

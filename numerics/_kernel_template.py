@@ -58,21 +58,23 @@ def advance_step(y, v, dt, p_a, drive, k):
 
 
 @numba.njit(cache=True)
-def mark_failed(y, v, failed_period, period):
-    """Record the first period in which a lane's state became non-finite."""
+def mark_failed(y, v, failed_period, period, limit):
+    """Record the first period in which a lane's state became non-finite or left
+    |y| <= limit[lane] (an unstable step, or a model with no floor)."""
     for lane in range(y.shape[0]):
-        if failed_period[lane] < 0 and not (math.isfinite(y[lane]) and math.isfinite(v[lane])):
+        sane = math.isfinite(v[lane]) and abs(y[lane]) <= limit[lane]  # NaN fails too
+        if failed_period[lane] < 0 and not sane:
             failed_period[lane] = period
 
 
 @numba.njit(cache=True)
-def advance_periods(y, v, dt, p_a, drive, periods, failed_period):
+def advance_periods(y, v, dt, p_a, drive, periods, failed_period, limit):
     """Advance every lane by whole periods, recording nothing (the hot path)."""
     steps = (drive.shape[0] - 1) // 2
     for period in range(periods):
         for k in range(steps):
             advance_step(y, v, dt, p_a, drive, k)
-        mark_failed(y, v, failed_period, period)
+        mark_failed(y, v, failed_period, period, limit)
 
 
 @numba.njit(cache=True, inline="always")
@@ -108,7 +110,7 @@ def hermite_extremum(y0, v0, y1, v1, dt):
 @numba.njit(cache=True)
 def record_periods(
     y, v, dt, p_a, drive, periods, failed_period, first_period,
-    ymin, ymax, ext_value, ext_phase, ext_kind, ext_count, history_y, history_v,
+    ymin, ymax, ext_value, ext_phase, ext_kind, ext_count, history_y, history_v, limit,
 ):
     """Advance by whole periods while recording the observables asked for.
 
@@ -152,7 +154,7 @@ def record_periods(
                         ext_phase[lane, n] = period + (k + s) / steps
                         ext_kind[lane, n] = 1 if v0 > 0.0 else -1
                     ext_count[lane] = n + 1
-        mark_failed(y, v, failed_period, first_period + period)
+        mark_failed(y, v, failed_period, first_period + period, limit)
 
 
 @numba.njit(cache=True)
@@ -228,7 +230,8 @@ def shoot_periods(y, v, dt, p_a, drive, periods, monodromy):
 
 
 @numba.njit(cache=True)
-def strobe_periods(y, v, dt, p_a, drive, periods, strobe_y, strobe_v, span, failed_period, first):
+def strobe_periods(y, v, dt, p_a, drive, periods, strobe_y, strobe_v, span, failed_period, first,
+                   limit):
     """Advance by whole periods, keeping the state at the end of every period
     (the stroboscopic, once-per-period samples) in strobe_y[:, j], strobe_v[:, j],
     and the sampled max - min of y over the last period in ``span``."""
@@ -248,4 +251,4 @@ def strobe_periods(y, v, dt, p_a, drive, periods, strobe_y, strobe_v, span, fail
             strobe_y[lane, period] = y[lane]
             strobe_v[lane, period] = v[lane]
             span[lane] = high[lane] - low[lane]
-        mark_failed(y, v, failed_period, first + period)
+        mark_failed(y, v, failed_period, first + period, limit)

@@ -7,18 +7,30 @@ from functools import lru_cache
 
 import numpy as np
 
-from perturb import ContactModel
+from perturb import ContactModel, Eq26
 
 from ._codegen import compiled_kernels
 from ._result import Simulation
 from ._validate import check_record, finite_array, lane_array, positive_int
 
-__all__ = ["simulate", "drive_table", "static_deflection"]
+__all__ = ["simulate", "drive_table", "static_deflection", "divergence_limit"]
 
 
 def drive_table(steps_per_period: int) -> np.ndarray:
     """cos(2 pi j / 2N) for j = 0..2N: the drive at every RK4 stage of a period."""
     return np.cos(np.pi * np.arange(2 * steps_per_period + 1) / steps_per_period)
+
+
+#: A lane fails when |y| exceeds this many times max(y0, g / f_e^2): far beyond any
+#: flight the drive can cause (g / f_e^2 is 8x the height of a period's free
+#: flight), so only an unstable step or a model with no floor gets there.
+DIVERGENCE_FACTOR = 1e3
+
+
+def divergence_limit(model: ContactModel, f_e: np.ndarray) -> np.ndarray:
+    """Per lane, the |y| [m] beyond which the lane is marked failed."""
+    y0 = static_deflection(model)
+    return DIVERGENCE_FACTOR * np.maximum(y0, model.parameters.g / f_e**2)
 
 
 def static_deflection(model: ContactModel) -> float:
@@ -116,13 +128,14 @@ def simulate(
     dt = 1.0 / (steps * f_e)
     drive = drive_table(steps)
     failed_period = np.full(f_e.shape[0], -1, dtype=np.int64)
-    kernels.advance_periods(y, v, dt, p_a, drive, periods - record_periods, failed_period)
+    limit = divergence_limit(model, f_e)
+    kernels.advance_periods(y, v, dt, p_a, drive, periods - record_periods, failed_period, limit)
     observed = _record(kernels, names, y, v, dt, p_a, drive, failed_period, periods,
-                       record_periods, steps, max_extrema)
+                       record_periods, steps, max_extrema, limit)
     result = Simulation(
         f_e_hz=f_e, p_a_n=p_a, model=repr(model), steps_per_period=steps, periods=periods,
         record_periods=record_periods, y_final=y, v_final=v, failed=failed_period >= 0,
-        messages=_failure_messages(failed_period, f_e, p_a), **observed,
+        messages=_failure_messages(failed_period, f_e, p_a, model, steps), **observed,
         elapsed_s=time.perf_counter() - start,
     )
     if throw and result.failed.any():
@@ -131,7 +144,7 @@ def simulate(
 
 
 def _record(kernels, names, y, v, dt, p_a, drive, failed_period, periods, record_periods,
-            steps, max_extrema) -> dict:
+            steps, max_extrema, limit) -> dict:
     lanes = y.shape[0]
     want_extrema = "extrema" in names
     want_history = "history" in names
@@ -145,7 +158,7 @@ def _record(kernels, names, y, v, dt, p_a, drive, failed_period, periods, record
     history_y, history_v = np.empty(history), np.empty(history)
     kernels.record_periods(
         y, v, dt, p_a, drive, record_periods, failed_period, periods - record_periods,
-        ymin, ymax, ext_value, ext_phase, ext_kind, ext_count, history_y, history_v,
+        ymin, ymax, ext_value, ext_phase, ext_kind, ext_count, history_y, history_v, limit,
     )
     observed: dict = {}
     if "minmax" in names or want_extrema:
@@ -168,10 +181,20 @@ def _record(kernels, names, y, v, dt, p_a, drive, failed_period, periods, record
     return observed
 
 
-def _failure_messages(failed_period, f_e, p_a) -> list[str]:
+def _failure_messages(failed_period, f_e, p_a, model, steps) -> list[str]:
+    # RK4 is stable for omega * dt below 2 sqrt(2) on an undamped oscillator.
+    omega0 = Eq26(model).numeric()["omega0_rad_s"]
     return [
-        f"lane {i} (f_e={f_e[i]:g} Hz, P_a={p_a[i]:g} N): state became non-finite "
-        f"in period {int(p)}"
+        f"lane {i} (f_e={f_e[i]:g} Hz, P_a={p_a[i]:g} N): state became non-finite or "
+        f"diverged (|y| > {DIVERGENCE_FACTOR:g} max(y0, g/f_e^2)) in period {int(p)}"
+        + _step_hint(omega0 / (steps * f_e[i]))
         for i, p in enumerate(failed_period)
         if p >= 0
     ]
+
+
+def _step_hint(omega_dt: float) -> str:
+    if omega_dt < 2.0:
+        return ""
+    return (f"; the step is too large for the contact: omega0*dt = {omega_dt:.3g} "
+            "(RK4 needs < 2.8): raise steps_per_period")

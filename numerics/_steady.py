@@ -24,13 +24,13 @@ import numpy as np
 from perturb import ContactModel
 
 from ._codegen import compiled_kernels
-from ._simulate import drive_table, static_deflection
+from ._simulate import divergence_limit, drive_table, static_deflection
 from ._validate import finite_array, lane_array, positive_int
 
 __all__ = ["SteadyStates", "steady_states", "DEFAULTS"]
 
 #: Defaults chosen for 0.5 % accuracy of App (tests/test_steady.py shows it).
-DEFAULTS = {"steps_per_period": 128, "tol": 1e-6, "max_periods": 1200}
+DEFAULTS = {"steps_per_period": 128, "tol": 1e-6, "max_periods": 1200, "refinements": 2}
 PERIODS_TRIED = (1, 2, 4, 8)
 _CHUNK = 16  # periods marched between settling checks
 _NEWTON_ITERATIONS = 10
@@ -64,6 +64,8 @@ class SteadyStates:
         "newton", "march+newton", "march", or "none".
     periods_run : ndarray of int
         Excitation periods integrated for the lane (its cost).
+    steps_used : ndarray of int
+        Steps per period of the lane's result (see ``refinements``).
     """
 
     f_e_hz: np.ndarray
@@ -83,6 +85,7 @@ class SteadyStates:
     method: np.ndarray
     periods_run: np.ndarray
     failed: np.ndarray
+    steps_used: np.ndarray
     messages: list[str] = field(default_factory=list)
     elapsed_s: float = 0.0
 
@@ -114,6 +117,7 @@ class _Batch:
         self.drive = drive_table(steps)
         self.length = static_deflection(model) or 1.0
         self.omega = 2 * np.pi * f_e
+        self.limit = divergence_limit(model, f_e)
         self.periods_run = np.zeros(f_e.shape[0], dtype=np.int64)
 
     def distance(self, lanes, dy, dv, scale):
@@ -162,7 +166,8 @@ class _Batch:
         sy, sv = np.empty((n, periods)), np.empty((n, periods))
         ym, vm, spans = y.copy(), v.copy(), np.empty(n)
         self.kernels.strobe_periods(ym, vm, self.dt[lanes], self.p_a[lanes], self.drive, periods,
-                                    sy, sv, spans, np.full(n, -1, dtype=np.int64), 0)
+                                    sy, sv, spans, np.full(n, -1, dtype=np.int64), 0,
+                                    self.limit[lanes])
         self.periods_run[lanes] += periods
         scale = np.maximum(span, _SPAN_FLOOR * self.length)
         before = self.distance(lanes, y - y_orbit, v - v_orbit, scale)
@@ -188,7 +193,7 @@ class _Batch:
             span = np.empty(active.size)
             ya, va, fp = y[active], v[active], failed_period[idx]
             k.strobe_periods(ya, va, self.dt[idx], self.p_a[idx], self.drive, _CHUNK, sy, sv,
-                             span, fp, done)
+                             span, fp, done, self.limit[idx])
             y[active], v[active], failed_period[idx] = ya, va, fp
             last_span[active] = span
             self.periods_run[idx] += _CHUNK
@@ -264,6 +269,7 @@ def steady_states(
     tol: float = DEFAULTS["tol"],
     max_periods: int = DEFAULTS["max_periods"],
     method: str = "newton",
+    refinements: int = DEFAULTS["refinements"],
 ) -> SteadyStates:
     """Find the steady state reached from each lane's initial state.
 
@@ -291,6 +297,12 @@ def steady_states(
     method : {"newton", "march"}
         Newton shooting with time marching as the fallback, or time marching only
         (the paper's method as it stands; for checks and baselines).
+    refinements : int
+        Lanes that fail, do not settle or settle with p > 1 are solved again from
+        their initial states with 2, 4, ... times the steps, this many times: a
+        short impact at a low f_e takes few steps, and an under-resolved impact
+        can look like a period-4 orbit or never settle. ``steps_used`` says
+        which step each result comes from.
 
     Examples
     --------
@@ -318,13 +330,40 @@ def steady_states(
         lane_array("span_guess", 0.0 if span_guess is None else span_guess),
     )
     f_e, p_a, y, v, guess, span = (np.array(a) for a in arrays)
+    refinements = positive_int("refinements", refinements, minimum=0)
     start = time.perf_counter()
-    batch = _Batch(model, f_e, p_a, steps, tol)
-    lanes = f_e.shape[0]
-    state = _Solution(lanes)
-    failed_period = np.full(lanes, -1, dtype=np.int64)
+    solve = dict(model=model, tol=tol, max_periods=max_periods, method=method,
+                 continuation=span_guess is not None)
+    lanes = np.arange(f_e.shape[0])
+    state = _solve(lanes, f_e, p_a, y, v, guess, span, steps=steps, **solve)
+    for level in range(1, refinements + 1):
+        # A lane that failed, did not settle or settled with p > 1 may be under-resolved
+        # (a short impact takes few steps); it is solved again with twice the steps.
+        redo = np.flatnonzero(~state.settled | (state.period > 1))
+        if not redo.size:
+            break
+        finer = _solve(redo, f_e, p_a, y, v, guess, span, steps=steps * 2**level, **solve)
+        state.merge(redo, finer)
+    return SteadyStates(
+        f_e_hz=f_e, p_a_n=p_a, model=repr(model), steps_per_period=steps, tol=tol,
+        settled=state.settled, period=state.period, y_start=state.y_start,
+        v_start=state.v_start, multipliers=state.multipliers, method=state.method,
+        periods_run=state.periods_run, failed=state.failed_period >= 0,
+        steps_used=state.steps_used, ymin=state.ymin, ymax=state.ymax,
+        maxima=state.maxima, minima=state.minima,
+        messages=[f"lane {i}: state became non-finite or diverged in period {p}"
+                  for i, p in enumerate(state.failed_period) if p >= 0],
+        elapsed_s=time.perf_counter() - start,
+    )
 
-    if method == "newton" and span_guess is not None:
+
+def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, max_periods, method,
+           continuation) -> "_Solution":
+    """One pass at a fixed step: Newton continuation, then marching and polishing."""
+    f_e, p_a, y, v, guess, span = (a[lanes] for a in (f_e, p_a, y, v, guess, span))
+    batch = _Batch(model, f_e, p_a, steps, tol)
+    state = _Solution(lanes.size, steps)
+    if method == "newton" and continuation:
         # Continuation: follow the orbit the initial states lie on.
         for p in np.unique(guess):
             group = np.flatnonzero(guess == p)
@@ -335,7 +374,8 @@ def steady_states(
             state.accept(group[ok], yn[ok], vn[ok], int(p), mult[ok], "newton")
     rest = np.flatnonzero(~state.settled)
     if rest.size:
-        period, ym, vm, span_m = batch.march(rest, y[rest], v[rest], max_periods, failed_period)
+        period, ym, vm, span_m = batch.march(rest, y[rest], v[rest], max_periods,
+                                             state.failed_period)
         state.y_start[rest], state.v_start[rest] = ym, vm
         for p in np.unique(period[period > 0]):
             chosen = period == p
@@ -347,28 +387,23 @@ def steady_states(
                 state.accept(group[ok], yn[ok], vn[ok], int(p), mult[ok], "march+newton")
                 group, marched_y, marched_v = group[~ok], marched_y[~ok], marched_v[~ok]
             state.accept(group, marched_y, marched_v, int(p), None, "march")
-    extremes = _record_orbits(batch, state)
-    return SteadyStates(
-        f_e_hz=f_e, p_a_n=p_a, model=repr(model), steps_per_period=steps, tol=tol,
-        settled=state.settled, period=state.period, y_start=state.y_start,
-        v_start=state.v_start, multipliers=state.multipliers, method=state.method,
-        periods_run=batch.periods_run, failed=failed_period >= 0,
-        messages=[f"lane {i}: state became non-finite in period {p}"
-                  for i, p in enumerate(failed_period) if p >= 0],
-        elapsed_s=time.perf_counter() - start, **extremes,
-    )
+    state.record(batch)
+    return state
 
 
 class _Solution:
     """Per-lane results as they are accepted."""
 
-    def __init__(self, lanes: int):
+    def __init__(self, lanes: int, steps: int):
         self.settled = np.zeros(lanes, dtype=bool)
         self.period = np.zeros(lanes, dtype=np.int64)
         self.y_start = np.full(lanes, np.nan)
         self.v_start = np.full(lanes, np.nan)
         self.multipliers = np.full((lanes, 2), np.nan, dtype=complex)
         self.method = np.full(lanes, "none", dtype=object)
+        self.failed_period = np.full(lanes, -1, dtype=np.int64)
+        self.steps_used = np.full(lanes, steps, dtype=np.int64)
+        self.periods_run = np.zeros(lanes, dtype=np.int64)
 
     def accept(self, lanes, y, v, p, multipliers, method):
         self.settled[lanes] = True
@@ -377,6 +412,23 @@ class _Solution:
         if multipliers is not None:
             self.multipliers[lanes] = multipliers
         self.method[lanes] = method
+
+    def record(self, batch: "_Batch") -> None:
+        """Note the extremes of every settled orbit, and the cost."""
+        extremes = _record_orbits(batch, self)
+        self.ymin, self.ymax = extremes["ymin"], extremes["ymax"]
+        self.maxima, self.minima = extremes["maxima"], extremes["minima"]
+        self.periods_run += batch.periods_run
+
+    def merge(self, lanes: np.ndarray, finer: "_Solution") -> None:
+        """Take the finer pass's result for ``lanes``, unless it settled no better."""
+        take = finer.settled | ~self.settled[lanes]
+        self.periods_run[lanes] += finer.periods_run
+        for name in ("settled", "period", "y_start", "v_start", "multipliers", "method",
+                     "failed_period", "steps_used", "ymin", "ymax"):
+            getattr(self, name)[lanes[take]] = getattr(finer, name)[take]
+        for j in np.flatnonzero(take):
+            self.maxima[lanes[j]], self.minima[lanes[j]] = finer.maxima[j], finer.minima[j]
 
 
 def _record_orbits(batch: _Batch, state: _Solution) -> dict:
@@ -401,7 +453,7 @@ def _record_orbits(batch: _Batch, state: _Solution) -> dict:
         batch.kernels.record_periods(
             y, v, batch.dt[group], batch.p_a[group], batch.drive, int(p),
             np.full(n, -1, dtype=np.int64), 0, lo, hi, value, phase, kind, count,
-            history_y, history_v,
+            history_y, history_v, batch.limit[group],
         )
         batch.periods_run[group] += p
         least = _least_period(batch, group, state, history_y[:, steps - 1 :: steps],

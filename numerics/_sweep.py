@@ -42,6 +42,7 @@ class SweepRun:
     method: list[str] = field(default_factory=list)
     y_start_m: list[float] = field(default_factory=list)  # the orbit's state at phase 0
     v_start_m: list[float] = field(default_factory=list)
+    steps_used: list[int] = field(default_factory=list)  # RK4 steps per period of each point
 
     @property
     def contact_lost(self) -> np.ndarray:
@@ -83,7 +84,7 @@ class Sweep:
 def _run_dict(run: SweepRun) -> dict:
     """The documented JSON keys of a run (method and orbit states stay in Python)."""
     out = asdict(run)
-    for key in ("method", "y_start_m", "v_start_m"):
+    for key in ("method", "y_start_m", "v_start_m", "steps_used"):
         out.pop(key)
     return out
 
@@ -98,6 +99,7 @@ def sweep(
     tol: float = DEFAULTS["tol"],
     max_periods: int = DEFAULTS["max_periods"],
     method: str = "newton",
+    refinements: int = DEFAULTS["refinements"],
     quiet: bool = True,
 ) -> Sweep:
     """Sweep the excitation frequency up and/or down for each force amplitude.
@@ -110,7 +112,7 @@ def sweep(
         Force amplitudes P_a as fractions of the weight Q.
     direction : {"up", "down", "both"}
     model : ContactModel, optional
-    steps_per_period, tol, max_periods, method
+    steps_per_period, tol, max_periods, method, refinements
         As in ``steady_states``.
     quiet : bool
         No progress bar on stderr.
@@ -136,7 +138,8 @@ def sweep(
     p_a = np.array([frac for frac, _ in lanes]) * model.parameters.weight_n
 
     start = time.perf_counter()
-    columns = _sweep_lanes(freq, p_a, model, steps_per_period, tol, max_periods, method, quiet)
+    columns = _sweep_lanes(freq, p_a, model, quiet, steps_per_period=steps_per_period, tol=tol,
+                           max_periods=max_periods, method=method, refinements=refinements)
     runs = [
         SweepRun(pa_frac=float(frac), direction=d, frequency_hz=freq[i].tolist(),
                  **{key: [value[j][i] for j in range(grid.size)] for key, value in columns.items()})
@@ -145,25 +148,24 @@ def sweep(
     settings = {"frequencies_hz": [float(grid[0]), float(grid[-1]), int(grid.size)],
                 "pa_fracs": fracs.tolist(), "direction": direction,
                 "steps_per_period": steps_per_period, "tol": tol, "max_periods": max_periods,
-                "method": method, "effects": model.effects.label(),
+                "method": method, "refinements": refinements, "effects": model.effects.label(),
                 "parameters": model.parameters.as_dict()}
     return Sweep(model=model_info(model),
                  settings=settings, runs=runs, elapsed_s=time.perf_counter() - start)
 
 
-def _sweep_lanes(freq, p_a, model, steps, tol, max_periods, method, quiet) -> dict:
+def _sweep_lanes(freq, p_a, model, quiet, **accuracy) -> dict:
     """Walk every lane through its frequencies; return per-point columns."""
     points = freq.shape[1]
     columns = {k: [] for k in ("app_m", "ymin_m", "ymax_m", "maxima_m", "minima_m", "period",
-                               "settled", "method", "y_start_m", "v_start_m")}
+                               "settled", "method", "y_start_m", "v_start_m", "steps_used")}
     y = v = span = None
     period = 1
     rest = static_deflection(model)
     bar = Progress(points, "sweep", quiet=quiet)
     for j in range(points):
         found = steady_states(freq[:, j], p_a, model=model, y_init=y, v_init=v,
-                              period_guess=period, span_guess=span, steps_per_period=steps,
-                              tol=tol, max_periods=max_periods, method=method)
+                              period_guess=period, span_guess=span, **accuracy)
         # The next point starts from this point's orbit (or last state, if unsettled);
         # a lane whose state blew up (a reduced model with no floor) starts from rest.
         blown = ~(np.isfinite(found.y_start) & np.isfinite(found.v_start))
@@ -181,6 +183,7 @@ def _sweep_lanes(freq, p_a, model, steps, tol, max_periods, method, quiet) -> di
         columns["method"].append(found.method.tolist())
         columns["y_start_m"].append(found.y_start.tolist())
         columns["v_start_m"].append(found.v_start.tolist())
+        columns["steps_used"].append(found.steps_used.tolist())
         bar.advance()
     bar.close()
     return columns

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import math
+import numbers
+
 import numpy as np
 
 __all__ = ["lane_array", "positive_int", "RECORDABLE", "check_record"]
@@ -18,12 +21,14 @@ RECORDABLE = {
 def lane_array(name: str, value, lanes: int | None = None, *, positive: bool = False):
     """A float64 array over lanes; finite, >= 0 (or > 0 with ``positive``)."""
     array = np.atleast_1d(np.asarray(value, dtype=float))
-    if array.ndim != 1:
-        raise ValueError(f"`{name}` must be a scalar or 1-dimensional, got shape {array.shape}.")
+    if array.ndim != 1 or array.size == 0:
+        raise ValueError(
+            f"`{name}` must be a scalar or a non-empty 1-dimensional array, got shape "
+            f"{array.shape}.")
     bad = ~np.isfinite(array) | (array <= 0 if positive else array < 0)
     if bad.any():
         bound = "> 0" if positive else ">= 0"
-        raise ValueError(f"`{name}` must be finite and {bound}, got {array[bad][0]!r}.")
+        raise ValueError(f"`{name}` must be finite and {bound}, got {float(array[bad][0])!r}.")
     if lanes is not None and array.shape[0] not in (1, lanes):
         raise ValueError(f"`{name}` has {array.shape[0]} lanes, expected 1 or {lanes}.")
     return array
@@ -38,9 +43,10 @@ def finite_array(name: str, value):
 
 def positive_int(name: str, value, minimum: int = 1) -> int:
     """An integer >= minimum, or a ValueError naming the argument."""
-    if isinstance(value, bool) or int(value) != value or value < minimum:
+    number = value if isinstance(value, numbers.Real) and not isinstance(value, bool) else None
+    if number is None or not math.isfinite(number) or int(number) != number or number < minimum:
         raise ValueError(f"`{name}` must be an integer >= {minimum}, got {value!r}.")
-    return int(value)
+    return int(number)
 
 
 def check_record(record) -> tuple[str, ...]:

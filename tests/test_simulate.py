@@ -71,11 +71,35 @@ def test_a_failing_lane_does_not_stop_the_batch(weight):
                  throw=True)
 
 
+def test_an_unstable_step_is_caught_and_explained(weight):
+    # m2 = 1 with the paper's c_n makes a very stiff contact: omega0 dt ~ 109 at 128
+    # steps per period. Regression: the state grew to -5e18 m without being flagged.
+    model = ContactModel(ContactParameters(m2=1.0, l=0.0))
+    run = simulate(1000.0, 0.1 * weight, periods=5, model=model)
+    assert run.failed[0] and "omega0*dt = 109" in run.messages[0]
+
+
+def test_a_diverging_bounce_is_flagged_and_resolved_by_finer_steps(weight):
+    # m2 = 1.5, l = 0.5 released from 3 um above the slideway at 490 Hz, 0.5 Q: at 128
+    # steps the impact is under-resolved and y ran away to -83 m, unflagged.
+    model = ContactModel(ContactParameters(m2=1.5, l=0.5))
+    coarse, fine = (simulate(490.0, 0.5 * weight, periods=50, model=model, y_init=-3e-6,
+                             steps_per_period=n, record="minmax", record_periods=50)
+                    for n in (128, 1024))
+    assert coarse.failed[0] and not fine.failed[0]
+    assert -4e-6 < fine.ymin[0] < 0
+
+
 @pytest.mark.parametrize(
     "kwargs, message",
     [
         ({"steps_per_period": 3}, "`steps_per_period`.*3"),
         ({"steps_per_period": 10.5}, "`steps_per_period`.*10.5"),
+        ({"steps_per_period": math.nan}, "`steps_per_period`.*nan"),
+        ({"steps_per_period": math.inf}, "`steps_per_period`.*inf"),
+        ({"steps_per_period": None}, "`steps_per_period`.*None"),
+        ({"periods": "5"}, "`periods`.*'5'"),
+        ({"f_e_hz": []}, "`f_e_hz`.*non-empty"),
         ({"p_a_n": -1.0}, "`p_a_n`.*-1.0"),
         ({"p_a_n": math.nan}, "`p_a_n`.*nan"),
         ({"f_e_hz": 0.0}, "`f_e_hz`.*0.0"),

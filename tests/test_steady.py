@@ -43,7 +43,7 @@ def test_monodromy_equals_finite_differences_of_the_period_map(weight):
 
     def period_map(y, v):
         y, v = y.copy(), v.copy()
-        k.advance_periods(y, v, dt, p_a, drive, 1, np.full(3, -1))
+        k.advance_periods(y, v, dt, p_a, drive, 1, np.full(3, -1), np.full(3, np.inf))
         return np.stack([y, v])
 
     h = np.array([1e-4 * y0, 1e-4 * y0 * 2 * np.pi * 1485])
@@ -98,6 +98,17 @@ def test_app_within_half_a_percent_of_four_times_the_steps(weight, pa_frac, f_e,
     assert abs(app / app_fine - 1) < 5e-3, (what, app, app_fine)
 
 
+def test_app_within_half_a_percent_on_a_bouncing_state_at_low_frequency():
+    # The least resolved case: short impacts at 260 Hz on the bouncing branch that the
+    # 0.5 Q down sweep follows from the primary peak (App ~ 21 um).
+    grid = np.arange(260.0, 1805.0, 5.0)
+    default = sweep(grid, [0.5], direction="down").runs[0]
+    fine = sweep(grid, [0.5], direction="down", steps_per_period=4 * 128, tol=1e-7).runs[0]
+    assert default.ymin_m[-1] < 0 and default.app_m[-1] > 1e-5
+    assert abs(default.app_m[-1] / fine.app_m[-1] - 1) < 5e-3, (default.app_m[-1],
+                                                                 fine.app_m[-1])
+
+
 def test_the_accuracy_check_fails_at_too_few_steps(weight):
     # The check above can fail: at 8 steps per period a bouncing state is off by > 0.5 %.
     coarse = _branch_point(weight, 0.5, 1200.0, "down", steps_per_period=8)
@@ -105,11 +116,25 @@ def test_the_accuracy_check_fails_at_too_few_steps(weight):
     assert abs(coarse.app_m[-1] / fine.app_m[-1] - 1) > 5e-3
 
 
+def test_under_resolved_impacts_are_solved_again_with_finer_steps(weight):
+    # Regression: at 0.40 Q the down sweep's bouncing orbit at 255-260 Hz takes ~4 RK4
+    # steps per impact at 128 steps per period, and looked period-4 or never settled;
+    # DOP853 (rtol 1e-11) and finer steps both find period 1 (App ~ 21 um).
+    grid = np.arange(250.0, 1805.0, 5.0)  # the bouncing branch is reached from above
+    refined = sweep(grid, [0.40], direction="down").runs[0]
+    assert all(refined.settled) and set(refined.period) == {1}
+    assert max(refined.steps_used) > 128
+    assert abs(refined.app_m[-2] / 21.07e-6 - 1) < 5e-3  # 255 Hz
+    coarse = sweep(grid, [0.40], direction="down", refinements=0).runs[0]
+    assert not all(coarse.settled[-3:]) and 4 in coarse.period[-3:]
+
+
 @pytest.mark.parametrize(
     "kwargs, message",
     [({"method": "euler"}, "`method`"), ({"tol": 0.0}, "`tol`"),
      ({"steps_per_period": 2}, "`steps_per_period`"), ({"max_periods": 0}, "`max_periods`"),
-     ({"f_e_hz": -1.0}, "`f_e_hz`"), ({"p_a_n": -0.1}, "`p_a_n`")],
+     ({"f_e_hz": -1.0}, "`f_e_hz`"), ({"p_a_n": -0.1}, "`p_a_n`"),
+     ({"refinements": -1}, "`refinements`")],
 )
 def test_bad_input_is_named(kwargs, message):
     arguments = {"f_e_hz": 1000.0, "p_a_n": 0.1} | kwargs

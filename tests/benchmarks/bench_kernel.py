@@ -37,8 +37,10 @@ def throughput() -> tuple[float, float, float]:
     drive = drive_table(STEPS)
     failed = np.full(LANES, -1)
     dt = 1.0 / (STEPS * f_e)
-    kernels.advance_periods(y, v, dt, p_a, drive, 1, failed)  # compile / load
-    generated = median_time(lambda: kernels.advance_periods(y, v, dt, p_a, drive, PERIODS, failed))
+    limit = np.full(LANES, np.inf)
+    kernels.advance_periods(y, v, dt, p_a, drive, 1, failed, limit)  # compile / load
+    generated = median_time(
+        lambda: kernels.advance_periods(y, v, dt, p_a, drive, PERIODS, failed, limit))
     lost = float(np.mean(_lost_contact(kernels, model)))
     args = (STEPS, PERIODS // 4, PARAMETERS)
     f2, p2, y2, v2 = _lanes(model)
@@ -52,11 +54,13 @@ def _lost_contact(kernels, model):
     f_e, p_a, y, v = _lanes(model)
     ymin, ymax = np.empty(LANES), np.empty(LANES)
     empty = np.empty((LANES, 0))
+    limit = np.full(LANES, np.inf)
     kernels.advance_periods(y, v, 1 / (STEPS * f_e), p_a, drive_table(STEPS), 100,
-                            np.full(LANES, -1))
+                            np.full(LANES, -1), limit)
     kernels.record_periods(y, v, 1 / (STEPS * f_e), p_a, drive_table(STEPS), 1,
                            np.full(LANES, -1), 0, ymin, ymax, empty, empty,
-                           np.empty((LANES, 0), np.int8), np.zeros(LANES, np.int64), empty, empty)
+                           np.empty((LANES, 0), np.int8), np.zeros(LANES, np.int64), empty, empty,
+                           limit)
     return ymin < 0
 
 

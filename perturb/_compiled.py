@@ -156,7 +156,7 @@ class CompiledSeries:
 
     def harmonics(self, amplitudes: list[np.ndarray]) -> np.ndarray:
         """sum_n z_n_k for k = 0..K, shape (lanes, K + 1), from ``amplitudes``."""
-        lanes = np.broadcast(*amplitudes).shape
+        lanes = np.broadcast_shapes(*(np.shape(z) for z in amplitudes))  # any count
         top = max(k for _, k in self.keys)
         total = np.zeros((*lanes, top + 1), dtype=complex)
         for (_, k), z in zip(self.keys, amplitudes):

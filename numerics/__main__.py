@@ -9,6 +9,7 @@ from ._backbone import exact_backbone
 from ._backbone_table import format_backbone
 from ._cli_compare import add_compare_parser
 from ._cli_steady import add_attractors_parser, add_sweep_parser
+from ._cli_types import output_file
 from ._info import format_info, model_info
 from ._json_file import write_json
 
@@ -33,7 +34,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m numerics", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
     info = sub.add_parser("info", help="print the model's static and linear figures")
-    info.add_argument("--json", metavar="FILE", help="also write them as JSON")
+    info.add_argument("--json", metavar="FILE", type=output_file,
+                      help="also write them as JSON")
     info.set_defaults(run=_info)
     backbone = sub.add_parser(
         "backbone", help="exact frequency of free oscillation against amplitude"

@@ -10,6 +10,7 @@ import numpy as np
 from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS
 
 from ._attractors import attractors
+from ._cli_types import int_at_least, nonnegative_float, output_file, positive_float
 from ._json_file import write_json
 from ._steady import DEFAULTS
 from ._sweep import DIRECTIONS, sweep
@@ -18,32 +19,33 @@ __all__ = ["add_sweep_parser", "add_attractors_parser"]
 
 
 def _accuracy_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--steps", type=int, default=DEFAULTS["steps_per_period"],
+    parser.add_argument("--steps", type=int_at_least(4), default=DEFAULTS["steps_per_period"],
                         help="RK4 steps per period (default %(default)s)")
-    parser.add_argument("--tol", type=float, default=DEFAULTS["tol"],
+    parser.add_argument("--tol", type=positive_float, default=DEFAULTS["tol"],
                         help="relative settling tolerance (default %(default)s)")
-    parser.add_argument("--json", metavar="FILE", help="also write the result as JSON")
+    parser.add_argument("--json", metavar="FILE", type=output_file,
+                        help="also write the result as JSON")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
 def add_sweep_parser(sub) -> None:
     parser = sub.add_parser("sweep", help="steady states swept up/down in f_e (Fig. 2, 3)")
-    parser.add_argument("--pa-frac", type=float, nargs="+", default=list(PAPER_PANEL_FRACTIONS),
+    parser.add_argument("--pa-frac", type=nonnegative_float, nargs="+",
+                        default=list(PAPER_PANEL_FRACTIONS),
                         help="force amplitudes P_a / Q (default: the paper's ten)")
-    parser.add_argument("--fmin", type=float, default=PAPER_BAND_HZ[0])
-    parser.add_argument("--fmax", type=float, default=PAPER_BAND_HZ[1])
-    parser.add_argument("--points", type=int, default=311)
+    parser.add_argument("--fmin", type=positive_float, default=PAPER_BAND_HZ[0], help="[Hz]")
+    parser.add_argument("--fmax", type=positive_float, default=PAPER_BAND_HZ[1], help="[Hz]")
+    parser.add_argument("--points", type=int_at_least(2), default=311)
     parser.add_argument("--direction", choices=DIRECTIONS, default="both")
-    parser.add_argument("--plot", metavar="FILE.png",
+    parser.add_argument("--plot", metavar="FILE.png", type=output_file,
                         help="Fig. 2 there, and Fig. 3 beside it (FILE-extrema.png)")
     _accuracy_options(parser)
-    parser.set_defaults(run=_sweep)
+    parser.set_defaults(run=_sweep, parser=parser)
 
 
 def _sweep(args: argparse.Namespace) -> int:
-    if not args.fmin < args.fmax or args.points < 2:
-        raise SystemExit(f"need fmin < fmax and points >= 2, got {args.fmin}, {args.fmax}, "
-                         f"{args.points}")
+    if not args.fmin < args.fmax:
+        args.parser.error(f"--fmin must be below --fmax, got {args.fmin} and {args.fmax}")
     result = sweep(np.linspace(args.fmin, args.fmax, args.points), args.pa_frac,
                    direction=args.direction, steps_per_period=args.steps, tol=args.tol,
                    quiet=args.quiet)
@@ -65,8 +67,8 @@ def _sweep(args: argparse.Namespace) -> int:
 
 def add_attractors_parser(sub) -> None:
     parser = sub.add_parser("attractors", help="coexisting steady states at one (P_a, f_e)")
-    parser.add_argument("--pa-frac", type=float, required=True, help="P_a / Q")
-    parser.add_argument("--fe", type=float, required=True, help="f_e [Hz]")
+    parser.add_argument("--pa-frac", type=nonnegative_float, required=True, help="P_a / Q")
+    parser.add_argument("--fe", type=positive_float, required=True, help="f_e [Hz]")
     _accuracy_options(parser)
     parser.set_defaults(run=_attractors)
 

@@ -72,7 +72,8 @@ class Census:
     def __str__(self) -> str:
         lines = [f"{len(self.attractors)} attractors at f_e = {self.f_e_hz:g} Hz, "
                  f"P_a = {self.pa_frac:g} Q ({self.elapsed_s:.2g} s)"]
-        lines += [f"  {a.label():<24} period {a.period}  App {a.app_m * 1e9:9.2f} nm  "
+        width = max([24] + [len(a.label()) for a in self.attractors])
+        lines += [f"  {a.label():<{width}} period {a.period}  App {a.app_m * 1e9:9.2f} nm  "
                   f"ymin {a.ymin_m * 1e9:9.2f} nm  basin {a.basin_fraction:6.1%}"
                   f"{'  contact lost' if a.contact_lost else ''}" for a in self.attractors]
         if self.not_settled_fraction:

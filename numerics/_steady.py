@@ -39,6 +39,7 @@ _REACH_CONTINUATION = 0.5  # how far (relative to App) Newton may move a sweep's
 _REACH_POLISH = 1e-2  # how far it may move a marched, settled state
 _VERIFY_PERIODS = 16  # march that confirms a continued orbit attracts the previous state
 _VERIFY_SHRINK = 0.5  # by how much the distance to that orbit must shrink meanwhile
+_EXTREMA_PER_PERIOD = 64  # room for local extrema per period of the response
 
 
 @dataclass
@@ -444,7 +445,7 @@ def _record_orbits(batch: _Batch, state: _Solution) -> dict:
     steps = (batch.drive.shape[0] - 1) // 2
     for p in np.unique(state.period[state.period > 0]):
         group = np.flatnonzero(state.period == p)
-        n, width = group.size, 16 * int(p)
+        n, width = group.size, _EXTREMA_PER_PERIOD * int(p)
         y, v = state.y_start[group].copy(), state.v_start[group].copy()
         lo, hi = np.empty(n), np.empty(n)
         value, phase = np.empty((n, width)), np.empty((n, width))
@@ -459,8 +460,11 @@ def _record_orbits(batch: _Batch, state: _Solution) -> dict:
         least = _least_period(batch, group, state, history_y[:, steps - 1 :: steps],
                               history_v[:, steps - 1 :: steps], hi - lo)
         state.period[group] = least
+        if (count > width).any():
+            raise RuntimeError(f"an orbit has {int(count.max())} local extrema in {p} "
+                               f"period(s), more than the {width} recorded")
         for j, lane in enumerate(group):
-            m = min(count[j], width)
+            m = count[j]
             within = phase[j, :m] < least[j]
             values, kinds = value[j, :m][within], kind[j, :m][within]
             maxima[lane], minima[lane] = values[kinds > 0], values[kinds < 0]

@@ -7,28 +7,27 @@ defined here and nowhere else; the rest of the toolkit imports it.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import asdict, dataclass, fields
 
 __all__ = [
     "ContactParameters",
     "PAPER",
+    "PAPER_BAND_HZ",
     "PAPER_COEXISTENCE",
     "PAPER_CUBE_SIDE_M",
-    "PAPER_HYSTERESIS_POINT",
     "PAPER_F_N0_HZ",
+    "PAPER_HYSTERESIS_POINT",
     "PAPER_PANEL_FRACTIONS",
-    "PAPER_BAND_HZ",
-    "PAPER_CUBE_SIDE_M",
     "check_positive",
 ]
 
 
 def check_positive(name: str, value: float, *, allow_zero: bool = False) -> float:
     """Return ``float(value)``, or raise a ValueError that names the argument."""
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"`{name}` must be a real number, got {value!r}.") from None
+    if isinstance(value, (bool, str)) or not isinstance(value, numbers.Real):
+        raise ValueError(f"`{name}` must be a real number, got {value!r}.")
+    number = float(value)
     if not math.isfinite(number):
         raise ValueError(f"`{name}` must be finite, got {value!r}.")
     if number < 0 or (number == 0 and not allow_zero):

@@ -74,6 +74,12 @@ def test_bad_physical_parameters_are_named(name, bad):
         ContactParameters(**{name: bad})
 
 
+@pytest.mark.parametrize("bad", [True, "1", None])
+def test_parameters_must_be_real_numbers(bad):
+    with pytest.raises(ValueError, match=f"`M` must be a real number, got {bad!r}"):
+        ContactParameters(M=bad)
+
+
 @pytest.mark.parametrize("name, bad", [("m2", 0.9), ("l", -0.5), ("m2", math.nan)])
 def test_bad_exponents_are_named(name, bad):
     with pytest.raises(ValueError, match=f"`{name}`.*{bad}"):

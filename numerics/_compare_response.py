@@ -2,7 +2,7 @@
 
 ``perturb.frequency_response`` solves the series of Eq. 2.6 for every response
 at each excitation frequency, with a validity flag (no contact loss, last
-orders still shrinking). The RK4 steady states come from frequency sweeps up
+the next two orders change it by < 1 %). The RK4 steady states come from frequency sweeps up
 and down (``numerics.sweep``), as in the paper, for two models: Eq. 2.6 itself
 (quadratic spring, linear damping, no contact loss), which the series should
 reproduce, and the full piecewise model of Eq. 2.1-2.4, from which it parts
@@ -31,8 +31,10 @@ SUPERHARMONICS = (1, 2, 3)
 #: frequencies; the primary (k = 1) the most: once contact is lost its upper
 #: branch reaches past f_n0 / 2 (the paper's 740 Hz at 0.15Q; RK4 follows it to 370 Hz).
 PEAK_WINDOWS = {1: (0.15, 1.08), 2: (0.8, 1.08), 3: (0.8, 1.08)}
-#: A state farther than this (relative App) from every valid root has no counterpart
-#: in the series: a fold that falls at another frequency, or a branch it lacks.
+#: A state farther than this (relative App) from the valid root nearest to it has
+#: no counterpart in the series: the series' fold falls at another frequency (its
+#: upper branch ends before RK4's does), or it lacks the branch. Such states still
+#: count in ``largest_error``; ``largest_matched_error`` leaves them out.
 UNMATCHED = 0.1
 
 
@@ -89,8 +91,10 @@ class ResponseComparison:
         States where the series is valid but no response of it lies within
         ``UNMATCHED`` (a fold elsewhere, or a branch the series lacks).
     largest_error : float
-        The largest error over the matched states where the series is valid
-        (NaN if there are none).
+        The largest error over every state where the series is valid, the
+        unmatched ones included (NaN if there are none).
+    largest_matched_error : float
+        The same over the matched states only.
     peaks : list of PeakCheck
         The primary, 1/2 and 1/3 superharmonic peaks (Eq. 3.1).
     """
@@ -105,6 +109,7 @@ class ResponseComparison:
     error: np.ndarray
     unmatched: np.ndarray
     largest_error: float
+    largest_matched_error: float
     peaks: list[PeakCheck]
 
     @property
@@ -118,6 +123,8 @@ class ResponseComparison:
             "frequency_hz": self.frequency_hz.tolist(), "rk4_app_m": self.rk4_app_m.tolist(),
             "series_app_m": _nan_to_none(self.series_app_m),
             "largest_error": None if np.isnan(self.largest_error) else self.largest_error,
+            "largest_matched_error": (None if np.isnan(self.largest_matched_error)
+                                      else self.largest_matched_error),
             "unmatched_hz": self.frequency_hz[self.unmatched].tolist(),
             "peaks": [vars(p) | {"height_ratio": p.height_ratio} for p in self.peaks],
         }
@@ -230,8 +237,8 @@ def compare_response(
 
     Each RK4 state is matched with the analytic root of its frequency nearest in
     App. The series counts as valid for the state when that root is flagged
-    valid (no contact loss, orders still shrinking) and the state's App is
-    within ``app_limit_m``, the range where the order's backbone holds.
+    valid (no contact loss, next orders change it by < 1 %) and the state's App
+    is within ``app_limit_m``, the range where the order's backbone holds.
     """
     response = frequency_response(grid, curve.pa_frac, order)
     app_table, valid_table = _responses(response, grid)
@@ -248,6 +255,10 @@ def compare_response(
     return ResponseComparison(
         model=curve.model, pa_frac=curve.pa_frac, order=order, frequency_hz=frequency,
         rk4_app_m=app, contact_lost=curve.contact_lost[keep], series_app_m=series, error=error,
-        unmatched=unmatched,
-        largest_error=float(error[matched].max()) if matched.any() else np.nan, peaks=peaks,
+        unmatched=unmatched, largest_error=_largest(error, np.isfinite(error)),
+        largest_matched_error=_largest(error, matched), peaks=peaks,
     )
+
+
+def _largest(error: np.ndarray, where: np.ndarray) -> float:
+    return float(error[where].max()) if where.any() else np.nan

@@ -27,10 +27,13 @@ def _backbone_lines(c: Comparison) -> list[str]:
 
 
 def _response_lines(c: Comparison) -> list[str]:
-    head = "".join(f"{f'P_a={p:.2f}Q':>22}" for p in c.pa_fracs)
+    head = "".join(f"{f'P_a={p:.2f}Q':>30}" for p in c.pa_fracs)
     lines = [
         "Response: largest |App_series/App_RK4 - 1| where the series is valid "
-        "(matched / settled states; + unmatched)",
+        "(matched / settled states)",
+        "  +N: N states with no valid series response within 10 % (the series' fold is",
+        "  elsewhere, or it lacks the branch); they count in the largest error, and",
+        "  [x] is the largest over the matched states alone",
         f"{'order':>6}{'RK4 model':>10}{head}",
     ]
     for n in c.orders:
@@ -39,8 +42,11 @@ def _response_lines(c: Comparison) -> list[str]:
             for p in c.pa_fracs:
                 r = c.response(model, p, n)
                 cell = f"{_error(r.largest_error)} ({r.matched.sum()}/{r.error.size}"
-                cell += f"+{r.unmatched.sum()})" if r.unmatched.any() else ")"
-                cells += f"{cell:>22}"
+                if r.unmatched.any():
+                    cell += f"+{r.unmatched.sum()}) [{_error(r.largest_matched_error)}]"
+                else:
+                    cell += ")"
+                cells += f"{cell:>30}"
             lines.append(f"{n:>6}{model:>10}{cells}")
     return lines
 

@@ -8,7 +8,7 @@ import pytest
 from numerics import compare
 from numerics.__main__ import main
 from numerics._compare_backbone import compare_backbones
-from numerics._compare_response import steady_curve
+from numerics._compare_response import SteadyCurve, compare_response, steady_curve
 
 ORDERS = (2, 4, 6, 8, 10)
 
@@ -99,3 +99,18 @@ def test_bad_input_is_named():
         compare_backbones(())
     with pytest.raises(ValueError, match="`model_name`"):
         steady_curve(np.array([700.0, 710.0]), 0.05, "linear")
+
+
+def test_unmatched_states_count_in_the_largest_error():
+    # Regression: largest_error left out RK4 states with no valid series response
+    # within 10 %, so a disagreement showed only as "+N". At 0.05 Q, 1395 Hz the
+    # order-4 series has one response (the lower branch, 99.1 nm): its fold lies
+    # above 1395 Hz, while RK4 of Eq. 2.6 also holds the upper branch (327.0 nm).
+    grid = np.array([1390.0, 1395.0])
+    curve = SteadyCurve(model="eq26", pa_frac=0.05, frequency_hz=np.array([1395.0, 1395.0]),
+                        app_m=np.array([99.12e-9, 327.02e-9]), ymin_m=np.full(2, 1e-7),
+                        direction=np.array(["up", "down"]), settled=np.ones(2, dtype=bool))
+    result = compare_response(curve, 4, grid)
+    assert result.unmatched.tolist() == [False, True]
+    assert result.largest_error == pytest.approx(1 - 99.1 / 327.0, abs=2e-3)
+    assert result.largest_matched_error < 1e-3

@@ -10,6 +10,7 @@ from ._codegen import acceleration_source, compiled_kernels
 from ._compare import Comparison, compare
 from ._hysteresis import HysteresisLoop, hysteresis_loop
 from ._natural_frequency import HeightSweep, natural_frequency_vs_height
+from ._reference import reference_last_period
 from ._result import Simulation
 from ._simulate import drive_table, simulate, static_deflection
 from ._steady import SteadyStates, steady_states
@@ -36,6 +37,7 @@ __all__ = [
     "exact_backbone",
     "hysteresis_loop",
     "natural_frequency_vs_height",
+    "reference_last_period",
     "simulate",
     "static_deflection",
     "steady_states",

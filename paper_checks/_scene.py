@@ -20,6 +20,8 @@ __all__ = ["PaperScene", "COEXISTENCE_POINTS"]
 
 #: Section 3.3: (f_e [Hz], P_a / Q) where the paper reports coexisting solutions.
 COEXISTENCE_POINTS = PAPER_COEXISTENCE
+#: Section 3.1's "very small amplitude of the excitation force", as P_a / Q.
+TINY_FORCE_FRAC = 1e-3
 #: Force amplitudes at which the series is compared with RK4 (the series needs contact).
 COMPARED_FRACTIONS = (0.05, 0.10, 0.15)
 
@@ -70,7 +72,7 @@ class PaperScene:
         f = self.grid_hz[::4]
         return self._timed(
             "linear check (1e-3 Q)", f"{f.size} frequencies from rest",
-            lambda: steady_states(f, 1e-3 * PAPER.weight_n),
+            lambda: steady_states(f, TINY_FORCE_FRAC * PAPER.weight_n),
         )
 
     @cached_property

@@ -140,3 +140,18 @@ def test_bad_input_is_named(kwargs, message):
     arguments = {"f_e_hz": 1000.0, "p_a_n": 0.1} | kwargs
     with pytest.raises(ValueError, match=message):
         steady_states(arguments.pop("f_e_hz"), arguments.pop("p_a_n"), **arguments)
+
+
+def test_steady_states_agree_with_the_dop853_reference(weight):
+    # Route 2: scipy's DOP853 on the model's lambdified expressions, restarted at every
+    # y = 0 crossing, 30 periods from the orbit that shooting found.
+    from numerics import reference_last_period
+
+    points = [(0.05, 1420.0), (0.15, 740.0), (0.5, 1200.0)]
+    f = np.array([p[1] for p in points])
+    p_a = np.array([p[0] for p in points]) * weight
+    found = steady_states(f, p_a)
+    model = ContactModel()
+    for i in range(len(points)):
+        _, y = reference_last_period(model, f[i], p_a[i], found.y_start[i], found.v_start[i], 30)
+        assert abs(np.ptp(y) / found.app[i] - 1) < 1e-4, (points[i], np.ptp(y), found.app[i])

@@ -18,11 +18,16 @@ def _backbone_lines(c: Comparison) -> list[str]:
     lines = [
         f"Backbone: series of order N against the exact backbone (contact lost above "
         f"A_pp = {b.contact_loss_app_m * 1e9:.1f} nm)",
-        f"{'order':>6}{'a1 limit [nm]':>15}{'A_pp limit [nm]':>17}   "
-        f"(where |f_series/f_exact - 1| first exceeds {b.tolerance:g})",
+        f"  limit: up to where |f_series/f_exact - 1| first exceeds {b.tolerance:g}, capped"
+        " at contact loss (*);",
+        "  crossing: where it first exceeds it, contact or not (past contact loss the",
+        "  error of orders 4 and up changes sign: the series does not hold there)",
+        f"{'order':>6}{'a1 limit [nm]':>15}{'A_pp limit [nm]':>17}{'A_pp crossing [nm]':>20}",
     ]
-    for n, a1, app in zip(b.orders, b.limit_a1_m, b.limit_app_m):
-        lines.append(f"{n:>6}{a1 * 1e9:>15.1f}{app * 1e9:>17.1f}")
+    for n, a1, app, cross, capped in zip(b.orders, b.limit_a1_m, b.limit_app_m,
+                                          b.crossing_app_m, b.capped):
+        mark = "*" if capped else " "
+        lines.append(f"{n:>6}{a1 * 1e9:>15.1f}{app * 1e9:>16.1f}{mark}{cross * 1e9:>20.1f}")
     return lines
 
 
@@ -89,8 +94,8 @@ def format_comparison(comparison: Comparison) -> str:
     --------
     >>> from numerics._compare import compare
     >>> result = compare((4, 6), (0.05,), frequencies_hz=np.arange(700.0, 800.0, 5.0))
-    >>> print(format_comparison(result).splitlines()[2])
-         4          265.7            540.1
+    >>> print(format_comparison(result).splitlines()[5])
+         4          193.9           390.0*               540.1
     """
     blocks = [_backbone_lines(comparison), _response_lines(comparison),
               _peak_lines(comparison), _parting_lines(comparison)]

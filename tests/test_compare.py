@@ -114,3 +114,18 @@ def test_unmatched_states_count_in_the_largest_error():
     assert result.unmatched.tolist() == [False, True]
     assert result.largest_error == pytest.approx(1 - 99.1 / 327.0, abs=2e-3)
     assert result.largest_matched_error < 1e-3
+
+
+def test_backbone_limits_stop_at_contact_loss(backbones):
+    # Regression: the 1 % limits of orders 4-10 (540, 498, 485 nm, ...) lay past
+    # contact loss (390 nm), where the slider flies and the series' error only
+    # passes through zero on its way from + to -: the limit is capped there, and
+    # the crossing is kept apart.
+    loss = backbones.contact_loss_app_m
+    assert np.all(backbones.limit_app_m <= loss)
+    assert np.all(backbones.crossing_app_m[1:] > loss) and backbones.capped[1:].all()
+    assert backbones.limit_app_m[0] == backbones.crossing_app_m[0] < loss
+    beyond = backbones.app_m > loss
+    for n, error, signed in zip(ORDERS[1:], backbones.error[1:],
+                                backbones.series_hz[1:] / backbones.exact_hz - 1):
+        assert signed[beyond & (error > 0.003)].min() < 0 < signed[beyond].max(), n

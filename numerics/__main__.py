@@ -9,7 +9,7 @@ from ._backbone import exact_backbone
 from ._backbone_table import format_backbone
 from ._cli_compare import add_compare_parser
 from ._cli_steady import add_attractors_parser, add_sweep_parser
-from ._cli_types import output_file
+from ._cli_types import int_at_least, output_file
 from ._info import format_info, model_info
 from ._json_file import write_json
 
@@ -40,9 +40,10 @@ def build_parser() -> argparse.ArgumentParser:
     backbone = sub.add_parser(
         "backbone", help="exact frequency of free oscillation against amplitude"
     )
-    backbone.add_argument("--points", type=int, default=200, metavar="N",
-                          help="energy levels, log-spaced (default 200)")
-    backbone.add_argument("--json", metavar="FILE", help="also write the curve as JSON")
+    backbone.add_argument("--points", type=int_at_least(1), default=200, metavar="N",
+                          help="energy levels, log-spaced, >= 1 (default 200)")
+    backbone.add_argument("--json", metavar="FILE", type=output_file,
+                          help="also write the curve as JSON")
     backbone.add_argument("--quiet", action="store_true", help="no progress on stderr")
     backbone.set_defaults(run=_backbone)
     add_sweep_parser(sub)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from ._cli_types import int_at_least, nonnegative_float, output_file
 from ._compare import compare
 from ._compare_table import format_comparison
 from ._json_file import write_json
@@ -15,19 +16,22 @@ def add_compare_parser(sub) -> None:
     parser = sub.add_parser(
         "compare", help="perturbation series of each order against the exact backbone and RK4"
     )
-    parser.add_argument("--orders", type=int, nargs="+", default=[2, 4, 6],
-                        help="series orders (default 2 4 6)")
-    parser.add_argument("--pa-frac", type=float, nargs="+", default=[0.05, 0.10, 0.15],
-                        help="force amplitudes P_a / Q (default 0.05 0.10 0.15)")
-    parser.add_argument("--json", metavar="FILE", help="also write the result as JSON")
-    parser.add_argument("--plot", metavar="FILE.png", help="draw the comparison there")
+    parser.add_argument("--orders", type=int_at_least(0), nargs="+", default=[2, 4, 6],
+                        help="series orders, integers >= 0 (default 2 4 6)")
+    parser.add_argument("--pa-frac", type=nonnegative_float, nargs="+",
+                        default=[0.05, 0.10, 0.15],
+                        help="force amplitudes P_a / Q, finite, >= 0 (default 0.05 0.10 0.15)")
+    parser.add_argument("--json", metavar="FILE", type=output_file,
+                        help="also write the result as JSON")
+    parser.add_argument("--plot", metavar="FILE.png", type=output_file,
+                        help="draw the comparison there")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     parser.set_defaults(run=_compare)
 
 
 def _compare(args: argparse.Namespace) -> int:
-    if min(args.orders) < 0 or min(args.pa_frac) < 0:
-        raise SystemExit(f"orders and --pa-frac must be >= 0, got {args.orders}, {args.pa_frac}")
+    # --orders and --pa-frac are checked by their argparse types (exit 2, naming
+    # the option); compare() checks them again for callers from Python.
     result = compare(sorted(set(args.orders)), sorted(set(args.pa_frac)), quiet=args.quiet)
     print(format_comparison(result))
     write_json(args.json, result.as_json())

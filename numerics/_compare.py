@@ -98,6 +98,28 @@ def model_parting(eq26: SteadyCurve, full: SteadyCurve, tolerance: float) -> dic
     }
 
 
+def _checked(orders, pa_fracs, tolerance) -> tuple[tuple[int, ...], tuple[float, ...], float]:
+    """The arguments of ``compare``, or a ValueError naming the one that is wrong."""
+    orders, pa_fracs = tuple(np.atleast_1d(orders)), tuple(np.atleast_1d(pa_fracs))
+    if not orders or not all(_is_int(n) and n >= 0 for n in orders):
+        raise ValueError(f"`orders` must be a non-empty sequence of integers >= 0, got {orders!r}.")
+    try:
+        fracs = np.asarray(pa_fracs, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"`pa_fracs` must be real numbers, got {pa_fracs!r}.") from None
+    if fracs.size == 0 or not np.all(np.isfinite(fracs) & (fracs >= 0)):
+        raise ValueError(f"`pa_fracs` must be a non-empty sequence of finite numbers >= 0, "
+                         f"got {pa_fracs!r}.")
+    tolerance = float(tolerance)
+    if not (np.isfinite(tolerance) and tolerance > 0):
+        raise ValueError(f"`tolerance` must be finite and > 0, got {tolerance!r}.")
+    return tuple(int(n) for n in orders), tuple(float(p) for p in fracs), tolerance
+
+
+def _is_int(value) -> bool:
+    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+
+
 def compare(
     orders=(2, 4, 6),
     pa_fracs=(0.05, 0.10, 0.15),
@@ -135,6 +157,7 @@ def compare(
     >>> [f"{result.response('eq26', 0.05, n).largest_error:.1e}" for n in (4, 6)]
     ['2.2e-04', '1.5e-05']
     """
+    orders, pa_fracs, tolerance = _checked(orders, pa_fracs, tolerance)
     if frequencies_hz is None:
         frequencies_hz = np.arange(PAPER_BAND_HZ[0], PAPER_BAND_HZ[1] + 1.0, 5.0)
     grid = np.asarray(frequencies_hz, dtype=float)

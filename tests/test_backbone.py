@@ -206,3 +206,13 @@ def test_cli_writes_the_four_keys(tmp_path, capsys):
     assert payload["contact_lost"][0] is False and payload["contact_lost"][-1] is True
     out = capsys.readouterr()
     assert "contact lost" in out.out and out.err == ""
+
+
+@pytest.mark.parametrize("points", ["0", "-2", "x"])
+def test_cli_bad_points_is_an_argparse_error(points, capsys):
+    # Regression: --points 0 or -2 ended in a traceback from exact_backbone.
+    with pytest.raises(SystemExit) as exit_info:
+        main(["backbone", "--points", points, "--quiet"])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert "argument --points" in err and "Traceback" not in err

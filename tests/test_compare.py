@@ -129,3 +129,30 @@ def test_backbone_limits_stop_at_contact_loss(backbones):
     for n, error, signed in zip(ORDERS[1:], backbones.error[1:],
                                 backbones.series_hz[1:] / backbones.exact_hz - 1):
         assert signed[beyond & (error > 0.003)].min() < 0 < signed[beyond].max(), n
+
+
+@pytest.mark.parametrize(
+    "flags, option",
+    [(["--pa-frac", "nan"], "--pa-frac"), (["--pa-frac", "-0.1"], "--pa-frac"),
+     (["--pa-frac", "inf"], "--pa-frac"), (["--orders", "-1"], "--orders"),
+     (["--orders", "2.5"], "--orders")],
+)
+def test_cli_compare_bad_input_is_an_argparse_error(flags, option, capsys):
+    # Regression: --pa-frac nan ran the RK4 sweeps into a traceback naming the
+    # internal `p_a_n`; -1 gave a message that did not say which option was wrong.
+    with pytest.raises(SystemExit) as exit_info:
+        main(["compare", *flags, "--quiet"])
+    assert exit_info.value.code == 2
+    assert f"argument {option}:" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [({"pa_fracs": (0.05, np.nan)}, "`pa_fracs`"), ({"pa_fracs": (-0.1,)}, "`pa_fracs`"),
+     ({"pa_fracs": ()}, "`pa_fracs`"), ({"orders": (2, -1)}, "`orders`"),
+     ({"orders": (2.5,)}, "`orders`"), ({"orders": ()}, "`orders`"),
+     ({"tolerance": 0.0}, "`tolerance`"), ({"tolerance": np.nan}, "`tolerance`")],
+)
+def test_compare_bad_input_is_named(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        compare(**kwargs, frequencies_hz=np.array([700.0, 710.0]))

@@ -18,6 +18,7 @@ from ._compare_response import (
     MODELS,
     ResponseComparison,
     SteadyCurve,
+    _relative_difference,
     compare_response,
     steady_curve,
 )
@@ -87,7 +88,7 @@ def model_parting(eq26: SteadyCurve, full: SteadyCurve, tolerance: float) -> dic
     by the spring's terms above the quadratic); otherwise by contact loss.
     """
     both = eq26.settled & full.settled & np.isfinite(eq26.app_m) & np.isfinite(full.app_m)
-    differ = both & (np.abs(full.app_m / eq26.app_m - 1) > tolerance)
+    differ = both & (_relative_difference(full.app_m, eq26.app_m) > tolerance)
     lost = differ & full.contact_lost
     return {
         "states": int(both.sum()),

@@ -393,7 +393,8 @@ def frequency_response(
     frequencies_hz : array_like, shape (m,)
         Excitation frequencies f_e [Hz], > 0 and strictly increasing.
     pa_frac : float
-        Force amplitude P_a as a fraction of the weight Q (>= 0).
+        Force amplitude P_a as a fraction of the weight Q (>= 0; at 0 the one
+        response is rest: App = 0, omega = omega0, valid).
     order : int
         Order N of the series (>= 0).
     parameters : ContactParameters
@@ -431,6 +432,8 @@ def frequency_response(
     formulas = compile_series(order)
     Omega = 2 * np.pi * freq
     G = pa_frac * values.Q_n * values.G_per_P_a
+    if G == 0:
+        return Response(order, pa_frac, freq, [_at_rest(freq, values.omega0)])
 
     rows, roots = _roots(formulas, values, G, Omega, order, omega_range, grid_points)
     a0 = G / np.hypot(roots**2 - Omega[rows] ** 2, 2 * values.c * Omega[rows])
@@ -440,6 +443,17 @@ def frequency_response(
     return Response(
         order, pa_frac, freq, _branches(freq, rows, roots, a0, u_min, u_max, valid, error)
     )
+
+
+def _at_rest(freq: np.ndarray, omega0: float) -> Branch:
+    """P_a = 0: the one response is rest (u = 0, omega = omega0), exact at every order.
+
+    b_n is written with a division by A0 (Eq. 2.10), so the frequency equation
+    cannot be evaluated there; it is not needed.
+    """
+    zero = np.zeros(freq.size)
+    return Branch(frequency_hz=freq, app_m=zero, a0_m=zero, omega_rad_s=np.full(freq.size, omega0),
+                  u_min_m=zero, u_max_m=zero, valid=np.ones(freq.size, dtype=bool), error=zero)
 
 
 def _roots(formulas, values, G, Omega, order, omega_range, grid_points):

@@ -156,3 +156,11 @@ def test_cli_compare_bad_input_is_an_argparse_error(flags, option, capsys):
 def test_compare_bad_input_is_named(kwargs, name):
     with pytest.raises(ValueError, match=name):
         compare(**kwargs, frequencies_hz=np.array([700.0, 710.0]))
+
+
+def test_compare_without_force_is_rest_everywhere():
+    # Regression: P_a = 0 gave the series no response (0/0 in b_n) and 0/0 in the
+    # relative errors; both routes give rest, so the errors are 0.
+    result = compare((2,), (0.0,), frequencies_hz=np.array([700.0, 710.0]))
+    assert result.response("eq26", 0.0, 2).largest_error == 0.0
+    assert result.parting(0.0)["differ"] == 0

@@ -5,6 +5,8 @@ frequency equation, App of the reconstructed u(t)) and a fixed-step RK4 of the
 Eq. 2.6 model (``numerics.simulate``), run to a steady state from rest.
 """
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -237,3 +239,15 @@ def test_order_2_is_valid_somewhere_at_015q():
     # paper's band, though 256 of them are within 1 % of RK4.
     response = frequency_response(np.arange(250.0, 1801.0, 5.0), 0.15, 2)
     assert sum(int(b.valid.sum()) for b in response.branches) > 100
+
+
+@pytest.mark.parametrize("order", [0, 3, 6])
+def test_no_force_is_rest(order):
+    # Regression: pa_frac = 0 divided by A0 = 0 in b_n (a RuntimeWarning) and gave
+    # no branch at all; without force the one response is rest, exactly.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        response = frequency_response(np.array([500.0, 1485.0]), 0.0, order)
+    (branch,) = response.branches
+    assert branch.app_m.tolist() == [0.0, 0.0] and branch.valid.all()
+    assert branch.omega_rad_s.tolist() == [VALUES.omega0] * 2

@@ -23,6 +23,7 @@ import numpy as np
 
 from ._backbone_series import backbone_series
 from ._lindstedt import derive
+from ._parameters import PAPER_BAND_HZ
 from ._printing import latex_report, series_json, text_report
 from ._response import frequency_response
 
@@ -127,8 +128,8 @@ def _parser() -> argparse.ArgumentParser:
     response_cmd = commands.add_parser("response", help="analytic frequency response")
     response_cmd.add_argument("--order", type=_order, default=6)
     response_cmd.add_argument("--pa-frac", type=float, required=True)
-    response_cmd.add_argument("--fmin", type=float, default=250.0)
-    response_cmd.add_argument("--fmax", type=float, default=1800.0)
+    response_cmd.add_argument("--fmin", type=float, default=PAPER_BAND_HZ[0])
+    response_cmd.add_argument("--fmax", type=float, default=PAPER_BAND_HZ[1])
     response_cmd.add_argument("--points", type=int, default=311)
     response_cmd.add_argument("--json", metavar="FILE")
     response_cmd.set_defaults(run=_response)

@@ -4,9 +4,10 @@ import numpy as np
 import pytest
 
 from numerics import hysteresis_loop
+from perturb import PAPER_HYSTERESIS_POINT
 
 # The caption of Fig. 5: f_e = 1600 Hz, P_a = 0.40 Q.
-FIG5 = (1600.0, 0.40)
+FIG5 = PAPER_HYSTERESIS_POINT  # (f_e [Hz], P_a / Q)
 
 
 @pytest.fixture(scope="module")
@@ -27,10 +28,10 @@ def test_loop_area_is_energy_dissipated_by_damping(fig5_loop):
     assert fig5_loop.dissipated_j > 0
 
 
-@pytest.mark.parametrize("f_e_hz", [1600.0, 1400.0])
+@pytest.mark.parametrize("f_e_hz", [FIG5[0], 1400.0])
 def test_drive_supplies_what_damping_dissipates(f_e_hz):
     # At 1400 Hz the slider loses contact (y_min < 0); the balance still holds.
-    loop = hysteresis_loop(f_e_hz, 0.40)
+    loop = hysteresis_loop(f_e_hz, FIG5[1])
     assert loop.drive_work_j == pytest.approx(loop.dissipated_j, rel=1e-5)
     assert loop.loop_area_j == pytest.approx(loop.dissipated_j, rel=0.01)
     assert np.all(loop.pressure_pa[loop.y_m <= 0] == 0)
@@ -50,6 +51,6 @@ def test_pressure_is_reaction_over_area(fig5_loop):
      ({"periods": 1}, "periods"), ({"f_e_hz": -5.0}, "f_e_hz")],
 )
 def test_bad_input_is_named(kwargs, name):
-    arguments = {"f_e_hz": 1600.0, "p_a_frac": 0.4, **kwargs}
+    arguments = {"f_e_hz": FIG5[0], "p_a_frac": FIG5[1], **kwargs}
     with pytest.raises(ValueError, match=f"`{name}`"):
         hysteresis_loop(**arguments)

@@ -25,10 +25,17 @@ def header(title: str) -> None:
 
 
 def row(name: str, value: float, baseline: float | None = None, unit: str = "",
-        higher_is_better: bool = True) -> None:
-    """One line: figure, its baseline from the same run, and the ratio (x better)."""
+        higher_is_better: bool = True, ratio: bool = True) -> None:
+    """One line: figure, its baseline from the same run, and the ratio (x better).
+
+    ``ratio=False`` prints the baseline without a ratio, for figures whose ratio
+    means nothing (an error at rounding level against one of order 1).
+    """
     if baseline is None:
         print(f"{name:<52} {value:>11.4g} {unit:<2}")
+        return
+    if not ratio:
+        print(f"{name:<52} {value:>11.4g} {unit:<2} {baseline:>11.4g} {unit:<2} {'-':>8} ")
         return
     ratio = value / baseline if higher_is_better else baseline / value
     print(f"{name:<52} {value:>11.4g} {unit:<2} {baseline:>11.4g} {unit:<2} {ratio:>8.1f}x")

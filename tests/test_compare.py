@@ -26,7 +26,7 @@ def error_at(backbones, a1: float) -> np.ndarray:
 
 @pytest.mark.parametrize("a1_over_y0", [0.2, 0.5, 0.8])
 def test_series_backbone_converges_below_contact_loss(backbones, a1_over_y0):
-    # Contact is lost at a1 = 0.878 y0; below it the full model is Eq. 2.6 (m2 = 2:
+    # Contact is lost at a1 = 0.861 y0 (193.9 nm); below it the full model is Eq. 2.6 (m2 = 2:
     # the quadratic Taylor spring is exact) and the series converges to it.
     y0 = backbones.contact_loss_app_m / np.sqrt(3)
     errors = error_at(backbones, a1_over_y0 * y0)

@@ -27,6 +27,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quiet", action="store_true", help="print nothing but failures")
     args = parser.parse_args(argv)
     out = Path(args.out)
+    try:  # before any work, so that no result is lost at the end
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        parser.error(f"argument --out: cannot use {args.out!r} as a folder ({error.strerror})")
     cached = _kernel_files()
     report = write_report(out, quick=args.quick, started=_START,
                           kernels_cached_before=len(cached), kernel_files=_kernel_files)

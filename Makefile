@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: paper test test-slow bench lint clean
+.PHONY: paper test test-slow bench lint figures clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -23,6 +23,13 @@ test-slow: $(STAMP)
 
 bench: $(STAMP)
 	$(PY) -m tests.benchmarks
+
+# The README's figures, redrawn by the command line.
+figures: $(STAMP)
+	$(PY) -m numerics sweep --quiet --plot docs/figures/fig2-app.png
+	mv docs/figures/fig2-app-extrema.png docs/figures/fig3-extrema.png
+	$(PY) -c "from numerics import attractors; from numerics.plots import plot_census; \
+	plot_census(attractors(490.0, 0.5), 'docs/figures/census-490hz.png')"
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check perturb numerics paper_checks tests

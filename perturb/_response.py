@@ -266,9 +266,8 @@ def _waveform(formulas, values, a0, omega, Omega, samples):
     return per_harmonic.real @ np.cos(k_theta) - per_harmonic.imag @ np.sin(k_theta)
 
 
-def _waveform_extrema(formulas, values, a0, omega, Omega, samples):
-    """max and min of the reconstructed u over a period."""
-    u = _waveform(formulas, values, a0, omega, Omega, samples)
+def _extrema(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """max and min of sampled waveforms u (lanes, samples) over a period."""
     return _refined_extreme(u, np.max), _refined_extreme(u, np.min)
 
 
@@ -328,14 +327,15 @@ def _nearby_root(formulas, values, G, Omega, start, distance, iterations=30):
     return x1, found
 
 
-def truncation_error(order, values, G, Omega, rows, roots, app, samples=256) -> np.ndarray:
+def truncation_error(order, values, G, Omega, rows, roots, base, app) -> np.ndarray:
     """An a-posteriori estimate of the relative error of the order-N response.
 
     max over k = 1, 2 of pp(u_(N+k) - u_N) / App_N, where u_M is the
     reconstructed u(t) of the order-M series (in the time frame of the
     excitation) on its root nearest to the order-N root (``_nearby_root``;
     inf where no root of order N+k lies within ``_match_distance``), and pp
-    is max - min over a period. It bounds |App_(N+k) - App_N| / App_N. The
+    is max - min over a period; ``base`` is u_N sampled over a period (lanes,
+    samples), as ``_waveform`` gives it. It bounds |App_(N+k) - App_N| / App_N. The
     term b_(N+1) left out of the frequency equation is what the resonance
     amplifies; at odd N it is zero and only order N+2 sees it, hence two
     orders. Orders with the same frequency equation (b_n = 0 for odd n) share
@@ -347,8 +347,7 @@ def truncation_error(order, values, G, Omega, rows, roots, app, samples=256) -> 
     distance = _match_distance(rows, roots, values.c)
     solved = {compile_series(order).b_orders: (roots, np.ones(roots.size, dtype=bool))}
     error = np.zeros(roots.size)
-    a0 = G / np.hypot(roots**2 - Omega_r**2, 2 * values.c * Omega_r)
-    base = _waveform(compile_series(order), values, a0, roots, Omega_r, samples)
+    samples = base.shape[1]
     for k in (1, 2):
         formulas = compile_series(order + k)
         if formulas.b_orders not in solved:
@@ -437,8 +436,9 @@ def frequency_response(
 
     rows, roots = _roots(formulas, values, G, Omega, order, omega_range, grid_points)
     a0 = G / np.hypot(roots**2 - Omega[rows] ** 2, 2 * values.c * Omega[rows])
-    u_max, u_min = _waveform_extrema(formulas, values, a0, roots, Omega[rows], samples)
-    error = truncation_error(order, values, G, Omega, rows, roots, u_max - u_min, samples)
+    u = _waveform(formulas, values, a0, roots, Omega[rows], samples)  # order N, once
+    u_max, u_min = _extrema(u)
+    error = truncation_error(order, values, G, Omega, rows, roots, u, u_max - u_min)
     valid = (values.y0_m + u_min > 0) & (error < tolerance)
     return Response(
         order, pa_frac, freq, _branches(freq, rows, roots, a0, u_min, u_max, valid, error)

@@ -113,13 +113,18 @@ class _Batch:
 
     def __init__(self, model, f_e, p_a, steps, tol):
         self.kernels = compiled_kernels(model)
-        self.f_e, self.p_a, self.tol = f_e, p_a, tol
+        self.p_a, self.tol = p_a, tol
         self.dt = 1.0 / (steps * f_e)
         self.drive = drive_table(steps)
         self.length = static_deflection(model) or 1.0
         self.omega = 2 * np.pi * f_e
         self.limit = divergence_limit(model, f_e)
         self.periods_run = np.zeros(f_e.shape[0], dtype=np.int64)
+
+    def scale(self, span):
+        """The length that distances are measured against: the orbit's App, but at
+        least a thousandth of y0 (so that a vanishing orbit does not divide by 0)."""
+        return np.maximum(span, _SPAN_FLOOR * self.length)
 
     def distance(self, lanes, dy, dv, scale):
         """Relative distance of two states: |dy|/L + |dv|/(Omega L)."""
@@ -150,8 +155,7 @@ class _Batch:
             if converged.all() or not np.isfinite(size).any():
                 break
         multipliers = _eigenvalues(monodromy)
-        floor = np.maximum(span, _SPAN_FLOOR * scale)
-        moved = self.distance(lanes, y - y_start, v - v_start, floor)
+        moved = self.distance(lanes, y - y_start, v - v_start, self.scale(span))
         near = np.isfinite(moved) & (moved < reach)
         return converged & near & _stable(multipliers), y, v, multipliers
 
@@ -170,7 +174,7 @@ class _Batch:
                                     sy, sv, spans, np.full(n, -1, dtype=np.int64), 0,
                                     self.limit[lanes])
         self.periods_run[lanes] += periods
-        scale = np.maximum(span, _SPAN_FLOOR * self.length)
+        scale = self.scale(span)
         before = self.distance(lanes, y - y_orbit, v - v_orbit, scale)
         after = self.distance(lanes, ym - y_orbit, vm - v_orbit, scale)
         return (after < _VERIFY_SHRINK * before) | (after < self.tol)
@@ -219,7 +223,7 @@ class _Batch:
         A lag-p difference alone would accept a slowly decaying transient whose
         multiplier is near -1 as period 2.
         """
-        scale = np.maximum(span, _SPAN_FLOOR * self.length)
+        scale = self.scale(span)
         found = np.zeros(lanes.shape[0], dtype=np.int64)
         for p in reversed(PERIODS_TRIED):
             if sy.shape[1] < p + 3:
@@ -478,7 +482,7 @@ def _least_period(batch, group, state, strobe_y, strobe_v, span):
     """The least d (dividing p) with the state after d periods equal to the start, within tol."""
     p = strobe_y.shape[1]
     least = np.full(group.size, p, dtype=np.int64)
-    scale = np.maximum(span, _SPAN_FLOOR * batch.length)
+    scale = batch.scale(span)
     for d in reversed([d for d in PERIODS_TRIED if d < p and p % d == 0]):
         gap = batch.distance(group, strobe_y[:, d - 1] - state.y_start[group],
                              strobe_v[:, d - 1] - state.v_start[group], scale)

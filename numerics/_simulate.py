@@ -182,6 +182,8 @@ def _record(kernels, names, y, v, dt, p_a, drive, failed_period, periods, record
 
 
 def _failure_messages(failed_period, f_e, p_a, model, steps) -> list[str]:
+    if not (failed_period >= 0).any():
+        return []  # no need for omega0 (its first derivation costs a sympy run)
     # RK4 is stable for omega * dt below 2 sqrt(2) on an undamped oscillator.
     omega0 = Eq26(model).numeric()["omega0_rad_s"]
     return [

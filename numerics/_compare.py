@@ -22,7 +22,7 @@ from ._compare_response import (
     compare_response,
     steady_curve,
 )
-from ._progress import Progress
+from common import progress
 
 __all__ = ["Comparison", "compare", "model_parting"]
 
@@ -164,12 +164,12 @@ def compare(
     grid = np.asarray(frequencies_hz, dtype=float)
     backbone = compare_backbones(orders, tolerance=tolerance)
     limits = dict(zip(backbone.orders, backbone.limit_app_m))
-    progress = Progress(len(pa_fracs) * len(MODELS), "compare: RK4 sweeps", quiet=quiet)
+    progress = progress(len(pa_fracs) * len(MODELS), "compare: RK4 sweeps", quiet=quiet)
     curves = []
     for pa_frac in pa_fracs:
         for model in MODELS:
             curves.append(steady_curve(grid, float(pa_frac), model, steps_per_period))
-            progress.advance()
+            progress.update()
     progress.close()
     responses = [compare_response(curve, n, grid, limits[n])
                  for curve in curves for n in backbone.orders]

@@ -15,7 +15,7 @@ import numpy as np
 from perturb import ContactModel
 
 from ._info import model_info
-from ._progress import Progress
+from common import progress
 from ._simulate import static_deflection
 from ._steady import DEFAULTS, steady_states
 from ._validate import lane_array, positive_int
@@ -162,7 +162,7 @@ def _sweep_lanes(freq, p_a, model, quiet, **accuracy) -> dict:
     y = v = span = None
     period = 1
     rest = static_deflection(model)
-    bar = Progress(points, "sweep", quiet=quiet)
+    bar = progress(points, "sweep", quiet=quiet)
     for j in range(points):
         found = steady_states(freq[:, j], p_a, model=model, y_init=y, v_init=v,
                               period_guess=period, span_guess=span, **accuracy)
@@ -184,6 +184,6 @@ def _sweep_lanes(freq, p_a, model, quiet, **accuracy) -> dict:
         columns["y_start_m"].append(found.y_start.tolist())
         columns["v_start_m"].append(found.v_start.tolist())
         columns["steps_used"].append(found.steps_used.tolist())
-        bar.advance()
+        bar.update()
     bar.close()
     return columns

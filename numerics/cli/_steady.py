@@ -9,11 +9,11 @@ import numpy as np
 
 from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS
 
-from ._attractors import attractors
-from ._cli_types import int_at_least, nonnegative_float, output_file, positive_float
-from ._json_file import write_json
-from ._steady import DEFAULTS
-from ._sweep import DIRECTIONS, sweep
+from .._attractors import attractors
+from common import int_at_least, nonnegative_float, output_file, positive_float
+from common import write_json
+from .._steady import DEFAULTS
+from .._sweep import DIRECTIONS, sweep
 
 __all__ = ["add_sweep_parser", "add_attractors_parser"]
 

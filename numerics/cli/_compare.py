@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import argparse
 
-from ._cli_types import int_at_least, nonnegative_float, output_file
-from ._compare import compare
-from ._compare_table import format_comparison
-from ._json_file import write_json
+from common import int_at_least, nonnegative_float, output_file
+from .._compare import compare
+from .._compare_table import format_comparison
+from common import write_json
 
 __all__ = ["add_compare_parser"]
 

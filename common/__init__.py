@@ -1,0 +1,60 @@
+"""What the three packages share: one vocabulary, one result contract, one set of checks.
+
+- ``Status``: the one status of a lane (``_status.py``);
+- ``Result``, ``result``, ``load``: the contract of every result object
+  (``_results.py``), written by the one JSON writer (``_json.py``);
+- the input checks of every public function (``_checks.py``) and the argument
+  types of every command line (``_cli.py``);
+- progress on stderr (``_progress.py``, through tqdm);
+- ``GLOSSARY``: one name per quantity (``_glossary.py``, shown in the README).
+
+It imports neither sympy nor numba, so the command lines can start without them.
+"""
+
+from ._checks import (
+    check_choice,
+    check_int,
+    check_keys,
+    check_pair,
+    check_positive,
+    check_real,
+    finite_array,
+    lane_array,
+    lookup,
+)
+from ._cli import int_at_least, nonnegative_float, output_dir, output_file, positive_float
+from ._glossary import GLOSSARY, glossary_table
+from ._json import dumps, jsonable, write_json
+from ._progress import note, progress
+from ._results import RESULT_CLASSES, Result, from_dict, load, result
+from ._status import Status
+
+__all__ = [
+    "GLOSSARY",
+    "RESULT_CLASSES",
+    "Result",
+    "Status",
+    "check_choice",
+    "check_int",
+    "check_keys",
+    "check_pair",
+    "check_positive",
+    "check_real",
+    "dumps",
+    "finite_array",
+    "from_dict",
+    "glossary_table",
+    "int_at_least",
+    "jsonable",
+    "lane_array",
+    "load",
+    "lookup",
+    "nonnegative_float",
+    "note",
+    "output_dir",
+    "output_file",
+    "positive_float",
+    "progress",
+    "result",
+    "write_json",
+]

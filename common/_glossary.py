@@ -1,0 +1,101 @@
+"""One name per quantity: the names of every argument, result field and JSON key.
+
+The README's glossary table is ``glossary_table()``; a test checks that the two
+agree and that every field of every result class is named here. Units are SI
+and part of the name where the quantity has one (``_m``, ``_hz``, ``_s``).
+"""
+
+from __future__ import annotations
+
+__all__ = ["GLOSSARY", "glossary_table"]
+
+#: name: (meaning, unit, where the paper defines it)
+GLOSSARY: dict[str, tuple[str, str, str]] = {
+    # -- the excitation
+    "frequency_hz": ("excitation frequency f_e (also: a frequency axis of a curve)", "Hz",
+                     "Eq. 2.2"),
+    "pa_frac": ("force amplitude P_a as a fraction of the weight Q", "1", "Fig. 2, 3 captions"),
+    "p_a_n": ("force amplitude P_a (only at the low level: `simulate`, `steady_states`)", "N",
+              "Eq. 2.2"),
+    # -- the model
+    "model": ("the model that made a result: its `parameters` and `effects`, as data", "",
+              "Eq. 2.1-2.4"),
+    "parameters": ("S, c_n, m2, h_n, l, M, g", "SI", "Section 2"),
+    "effects": ("which laws and effects the model includes (contact loss, spring, damping, "
+                "gravity)", "", "Eq. 2.1, 2.5"),
+    "y0_m": ("static contact deflection y0 = delta0", "m", "Section 2"),
+    "f_n0_hz": ("natural frequency f_n0 of the linearised system", "Hz", "Section 3"),
+    "omega0_rad_s": ("omega0 = 2 pi f_n0", "rad/s", "Eq. 2.6"),
+    "Q_n": ("weight of the slider Q = M g", "N", "Eq. 2.2"),
+    "c_per_s": ("c of Eq. 2.6 (2c = S h_n y0^l / M)", "1/s", "Eq. 2.6"),
+    "h_per_m_s2": ("eps h of Eq. 2.6 (quadratic stiffness over M)", "1/(m s^2)", "Eq. 2.6"),
+    "damping_ratio": ("c / omega0", "1", "Eq. 2.6"),
+    "G_per_P_a": ("G / P_a = 1 / M", "1/kg", "Eq. 2.6"),
+    # -- a lane's state and fate
+    "status": ("the lane's fate: -1 failed, 0 success (ran to the end; settled), 1 not "
+               "settled, 2 under-resolved (`common.Status`)", "", ""),
+    "message": ("why a lane has its status (empty when it succeeded)", "", ""),
+    "settled": ("status is success: the stroboscopic state repeated within `tol` "
+                "(derived from `status`)", "", "Section 2, end"),
+    "failed": ("status is failed (derived from `status`)", "", ""),
+    "y_init_m": ("initial displacement y", "m", "Eq. 2.4"),
+    "v_init_m_s": ("initial velocity dy/dt", "m/s", "Eq. 2.4"),
+    "y_final_m": ("displacement at the end of a run", "m", ""),
+    "v_final_m_s": ("velocity at the end of a run", "m/s", ""),
+    "y_start_m": ("displacement on the orbit at phase 0", "m", ""),
+    "v_start_m_s": ("velocity on the orbit at phase 0", "m/s", ""),
+    # -- what a period shows
+    "app_m": ("peak-to-peak amplitude A_pp = ymax - ymin", "m", "Section 3, Fig. 2"),
+    "ymin_m": ("least y over one period of the response (< 0: contact lost)", "m", "Fig. 3"),
+    "ymax_m": ("largest y over one period of the response", "m", "Fig. 3"),
+    "maxima_m": ("every local maximum of y over one period of the response", "m", "Fig. 3"),
+    "minima_m": ("every local minimum of y over one period of the response", "m", "Fig. 3"),
+    "contact_lost": ("ymin < 0: the slider leaves the slideway", "", "Eq. 2.1, Fig. 3b-j"),
+    "period": ("p, the period of the orbit in excitation periods (0: none found)", "1", ""),
+    "multipliers": ("Floquet multipliers of the orbit (stable inside the unit circle); "
+                    "JSON: {real, imag}", "1", ""),
+    "method": ("the route to a steady state: newton, march+newton, march, none", "", ""),
+    "extrema": ("per lane, rows (phase [periods], y [m], +1 maximum / -1 minimum)", "", ""),
+    "history_phase": ("phase of each stored step, in periods since the recording began",
+                      "1", ""),
+    "history_y_m": ("y after every step of the recorded periods", "m", ""),
+    "history_v_m_s": ("dy/dt after every step of the recorded periods", "m/s", ""),
+    # -- accuracy and cost
+    "steps_per_period": ("RK4 steps per excitation period asked for", "1", "Section 2"),
+    "steps_used": ("RK4 steps per period a lane's result comes from (after refinement)", "1",
+                   ""),
+    "periods": ("excitation periods run in all", "1", ""),
+    "record_periods": ("final periods the recorded observables cover", "1", ""),
+    "periods_run": ("excitation periods integrated for a lane (its cost)", "1", ""),
+    "tol": ("relative tolerance of the settling test", "1", ""),
+    "max_periods": ("cap of time marching per lane", "1", ""),
+    "refinements": ("how many times an unsettled, failed or p > 1 lane is solved again with "
+                    "twice the steps", "1", ""),
+    "tolerance": ("a relative error bound (validity of a series, parting of two models)", "1",
+                  ""),
+    "elapsed_s": ("wall time of the computation", "s", ""),
+    "settings": ("the settings a result was computed with", "", ""),
+    "kind": ("JSON only: the class of the result, for `load`", "", ""),
+    # -- sweeps and the census
+    "direction": ("sweep direction: up or down", "", "Section 2, end"),
+    "runs": ("the runs of a sweep, one per (pa_frac, direction)", "", ""),
+    "lanes": ("every lane of the census, with its status", "", ""),
+    "attractors": ("the distinct steady states of a census, largest basin first", "",
+                   "Section 3.3"),
+    "basin_fraction": ("fraction of the census's initial states that reach the attractor",
+                       "1", ""),
+    "not_settled_fraction": ("fraction of initial states whose lane did not settle", "1", ""),
+    "dominant_harmonic": ("frequency of the strongest acceleration harmonic, over f_e", "1",
+                          "Section 3.2"),
+    "label": ("primary, 1/m superharmonic or period-p, from the dominant harmonic", "",
+              "Eq. 3.1"),
+    "orbit_y_m": ("y after every step of one orbit", "m", ""),
+}
+
+
+def glossary_table() -> str:
+    """The glossary as a Markdown table (the README shows it)."""
+    rows = ["| name | meaning | unit | paper |", "|---|---|---|---|"]
+    rows += [f"| `{name}` | {meaning} | {unit} | {paper} |"
+             for name, (meaning, unit, paper) in GLOSSARY.items()]
+    return "\n".join(rows)

@@ -1,0 +1,164 @@
+"""The contract every result object of the toolkit keeps.
+
+A result is a dataclass made with ``@result``. It carries the model that made
+it (``model``: parameters and effects, as data) and the settings; ``str`` gives
+a one-line summary, followed by a table where the result is a table; ``repr``
+is that one line, never an array; ``as_dict()`` is strict JSON (NaN and
+infinity as ``null``, with ``"kind"`` naming the class), ``to_json(path)``
+writes it, and ``load(path)`` reads any result file back into its object, so a
+figure can be redrawn from a saved run without computing it again.
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import math
+import types
+import typing
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+import numpy as np
+
+from ._json import jsonable, write_json
+
+__all__ = ["Result", "result", "load", "from_dict", "RESULT_CLASSES"]
+
+#: Every result class by name, filled in by ``@result``; ``load`` looks here.
+RESULT_CLASSES: dict[str, type] = {}
+#: Packages whose modules define result classes (imported by ``load`` on demand).
+_PACKAGES = ("perturb", "numerics")
+
+
+class Result:
+    """Base of the result classes: summary, short repr, strict JSON and its way back."""
+
+    def summary(self) -> str:
+        """One line: what the result holds and how long it took."""
+        return type(self).__name__
+
+    def table(self) -> str:
+        """The rows of the result, where it is a table ("" otherwise)."""
+        return ""
+
+    def __str__(self) -> str:
+        table = self.table()
+        return self.summary() + ("\n" + table if table else "")
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__}: {self.summary()}>"
+
+    def derived(self) -> dict:
+        """Values computed from the fields that the JSON also shows (not read back)."""
+        return {}
+
+    def as_dict(self) -> dict:
+        """Strict-JSON data: every field, the derived values, and ``"kind"``."""
+        data = {"kind": type(self).__name__}
+        data.update({f.name: jsonable(getattr(self, f.name)) for f in fields(self)})
+        data.update(jsonable(self.derived()))
+        return data
+
+    def to_json(self, path: str | Path) -> None:
+        """Write ``as_dict()`` to ``path`` (UTF-8, strict JSON)."""
+        write_json(path, self.as_dict())
+
+    @classmethod
+    def from_dict(cls, data: dict):
+        """The object that ``as_dict`` described; derived keys are recomputed, not read."""
+        hints = typing.get_type_hints(cls)
+        missing = [f.name for f in fields(cls) if f.name not in data and _required(f)]
+        if missing:
+            raise ValueError(f"{cls.__name__} data lacks the key(s) {missing}.")
+        values = {f.name: _decode(hints[f.name], data[f.name]) for f in fields(cls)
+                  if f.name in data}
+        return cls(**values)
+
+
+def _required(f) -> bool:
+    from dataclasses import MISSING
+
+    return f.default is MISSING and f.default_factory is MISSING
+
+
+def result(cls):
+    """Make ``cls`` a result dataclass (no generated repr or eq) and register it."""
+    cls = dataclass(repr=False, eq=False, kw_only=True)(cls)
+    RESULT_CLASSES[cls.__name__] = cls
+    return cls
+
+
+def _denull(value):
+    if value is None:
+        return math.nan
+    if isinstance(value, list):
+        return [_denull(item) for item in value]
+    return value
+
+
+def _array(value) -> np.ndarray | None:
+    if value is None:
+        return None
+    if isinstance(value, dict) and set(value) == {"real", "imag"}:
+        return _array(value["real"]) + 1j * _array(value["imag"])
+    return np.asarray(_denull(value))
+
+
+def _decode(hint, value):
+    """``value`` read from JSON, turned back into the type that ``hint`` names."""
+    if value is None:
+        return math.nan if hint is float else None
+    origin, args = typing.get_origin(hint), typing.get_args(hint)
+    if origin in (typing.Union, types.UnionType):
+        options = [a for a in args if a is not type(None)]
+        return _decode(options[0], value) if len(options) == 1 else value
+    if hint is np.ndarray:
+        return _array(value)
+    if isinstance(hint, type) and issubclass(hint, Result):
+        return hint.from_dict(value)
+    if origin is list and args:
+        return [_decode(args[0], item) for item in value]
+    if origin is tuple:
+        return tuple(value)
+    if hint is float:
+        return float(value)
+    if hint is complex:
+        return complex(value["real"], value["imag"])
+    return value
+
+
+def from_dict(data: dict):
+    """The result object that ``data`` (an ``as_dict()``) describes."""
+    kind = data.get("kind") if isinstance(data, dict) else None
+    if kind not in RESULT_CLASSES:
+        for package in _PACKAGES:  # the classes register themselves when imported
+            importlib.import_module(package)
+    if kind not in RESULT_CLASSES:
+        raise ValueError(
+            f"not a result of this toolkit: `kind` is {kind!r}; known kinds: "
+            f"{sorted(RESULT_CLASSES)}."
+        )
+    return RESULT_CLASSES[kind].from_dict(data)
+
+
+def load(path: str | Path):
+    """Read a result file written by ``to_json`` or ``--json`` back into its object.
+
+    Examples
+    --------
+    >>> import tempfile, numpy as np
+    >>> from numerics import simulate
+    >>> run = simulate([1000.0], 0.1, periods=20)
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     run.to_json(f"{folder}/run.json")
+    ...     back = load(f"{folder}/run.json")
+    >>> type(back).__name__, bool(np.all(back.app_m == run.app_m))
+    ('Simulation', True)
+    """
+    with open(path, encoding="utf-8") as handle:
+        try:
+            data = json.load(handle)
+        except json.JSONDecodeError as error:
+            raise ValueError(f"{str(path)!r} is not JSON: {error}") from None
+    return from_dict(data)

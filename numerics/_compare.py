@@ -164,13 +164,13 @@ def compare(
     grid = np.asarray(frequencies_hz, dtype=float)
     backbone = compare_backbones(orders, tolerance=tolerance)
     limits = dict(zip(backbone.orders, backbone.limit_app_m))
-    progress = progress(len(pa_fracs) * len(MODELS), "compare: RK4 sweeps", quiet=quiet)
+    bar = progress(len(pa_fracs) * len(MODELS), "compare: RK4 sweeps", quiet=quiet)
     curves = []
     for pa_frac in pa_fracs:
         for model in MODELS:
             curves.append(steady_curve(grid, float(pa_frac), model, steps_per_period))
-            progress.update()
-    progress.close()
+            bar.update()
+    bar.close()
     responses = [compare_response(curve, n, grid, limits[n])
                  for curve in curves for n in backbone.orders]
     return Comparison(backbone=backbone, curves=curves, responses=responses, frequency_hz=grid,

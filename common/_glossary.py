@@ -90,6 +90,68 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "label": ("primary, 1/m superharmonic or period-p, from the dominant harmonic", "",
               "Eq. 3.1"),
     "orbit_y_m": ("y after every step of one orbit", "m", ""),
+    # -- the exact backbone, Fig. 4, Fig. 5, the backbone series (numerics)
+    "u_max_m": ("largest compression beyond y0, y_max - y0: the energy level of a free "
+                "oscillation", "m", "Section 3.1"),
+    "a1_m": ("amplitude of the fundamental harmonic of y(t) (the a1 of the series)", "m",
+             "Eq. 2.7"),
+    "contact_loss_app_m": ("A_pp of the free oscillation at which contact is first lost "
+                           "(y_min = 0)", "m", "Eq. 2.1"),
+    "points": ("how many levels, heights or frequencies a curve is computed at", "1", ""),
+    "nodes": ("Chebyshev-Lobatto intervals per period integral of the exact backbone", "1", ""),
+    "app_range_m": ("(lo, hi): the A_pp range an exact backbone covers", "m", "Fig. 2"),
+    "phase": ("phase within the excitation period, in periods", "1", ""),
+    "y_m": ("displacement y over one period", "m", "Eq. 2.4"),
+    "v_m_s": ("velocity dy/dt over one period", "m/s", "Eq. 2.4"),
+    "reaction_n": ("reaction of the contact R = F_s + F_d (< 0 while it pushes the slider up)",
+                   "N", "Eq. 2.1"),
+    "damping_n": ("damping part F_d of the reaction", "N", "Eq. 2.1"),
+    "pressure_pa": ("normal contact pressure p = -R / S, positive in compression", "Pa", "Fig. 5"),
+    "loop_area_j": ("area of the hysteresis loop in the (y, R) plane", "J", "Fig. 5"),
+    "dissipated_j": ("energy the damping force dissipates over one period", "J", "Fig. 5"),
+    "drive_work_j": ("work of the drive P over one period", "J", "Eq. 2.2"),
+    "closure": ("relative change of the state over the last period: how steady a loop is", "1",
+                ""),
+    "height_m": ("height h_b of a steel body standing on the contact", "m", "Fig. 4"),
+    "mass_kg": ("mass M = rho S h_b of that body", "kg", "Fig. 4"),
+    "density_kg_m3": ("density rho of steel, from the paper's cube (M / side^3)", "kg/m^3",
+                      "Section 2"),
+    "paper_height_m": ("height of the body the paper measured, its 30 mm cube", "m", "Section 2"),
+    "paper_f_n0_hz": ("natural frequency the paper reports for its body", "Hz", "Section 3"),
+    "orders": ("orders N of the perturbation series", "1", "Eq. 2.7"),
+    "exact_hz": ("frequency of the exact backbone (free oscillation)", "Hz", "Section 3.1"),
+    "series_hz": ("frequency of the backbone series of an order, at the same a1", "Hz", "Eq. 2.7"),
+    "relative_error": ("relative error, abs(value / reference - 1)", "1", ""),
+    "limit_a1_m": ("a1 up to which a series order holds: within `tolerance`, in contact", "m", ""),
+    "limit_app_m": ("A_pp up to which a series order holds: within `tolerance`, in contact", "m",
+                    ""),
+    "crossing_a1_m": ("a1 where a series order's error first exceeds `tolerance`", "m", ""),
+    "crossing_app_m": ("A_pp where a series order's error first exceeds `tolerance`", "m", ""),
+    # -- the perturbation series and its frequency response (perturb)
+    "order": ("order N of the perturbation series (highest power of eps, or of alpha for "
+              "the backbone series)", "1", "Eq. 2.7"),
+    "branches": ("the roots of the frequency equation, branch j holding the (j+1)-th largest "
+                 "omega at each frequency", "", "Eq. 2.7, Fig. 2"),
+    "a0_m": ("amplitude A0 = G H_1(omega) of u0, the order-0 fundamental", "m", "Eq. 2.8"),
+    "omega_rad_s": ("non-linear natural frequency omega, a root of the frequency equation",
+                    "rad/s", "Eq. 2.7"),
+    "u_min_m": ("least u = y - y0 over one period (y0 + u_min_m <= 0: contact lost)", "m",
+                "Eq. 2.6"),
+    "valid": ("the series is accurate here: error_estimate < tolerance and contact kept; "
+              "not a statement of stability (a valid root can be an unstable orbit)", "",
+              ""),
+    "error_estimate": ("estimated relative error of A_pp from the next two orders of the "
+                       "series (null: no root of those orders nearby, no estimate)", "1", ""),
+    "amplitude": ("what the amplitude a of the backbone series is: first-harmonic, the "
+                  "amplitude of the fundamental", "", "Eq. 2.7"),
+    "coefficients": ("exact coefficients c_k of omega/omega0 = sum_k c_k alpha^k, alpha = "
+                     "h a / omega0^2; JSON: strings such as \"-5/12\"", "1", ""),
+    "waveform": ("cosine coefficients of x_1 .. x_(N+1) of the backbone series, "
+                 "x = h u / omega0^2; JSON: strings", "1", ""),
+    "omega_range": ("(lo, hi): where the roots omega are sought, in units of omega0", "1",
+                    ""),
+    "grid_points": ("uniform grid points in omega_range before refining the roots", "1", ""),
+    "samples": ("samples per period of the reconstructed u(t)", "1", ""),
 }
 
 

@@ -47,7 +47,8 @@ class Result:
         return self.summary() + ("\n" + table if table else "")
 
     def __repr__(self) -> str:
-        return f"<{type(self).__name__}: {self.summary()}>"
+        name, line = type(self).__name__, self.summary()
+        return f"<{line}>" if line.startswith(name) else f"<{name}: {line}>"
 
     def derived(self) -> dict:
         """Values computed from the fields that the JSON also shows (not read back)."""

@@ -1,18 +1,23 @@
 """numerics: a compiled, batched RK4 of the contact model and what is built on it.
 
 The right-hand side is generated from ``perturb.ContactModel`` for the effects a
-scene asks for; see ``simulate``.
+scene asks for; see ``simulate``. Every result object keeps the contract of
+``common.Result`` (its model and settings, strict JSON, ``load``).
 """
+
+from common import Status, load
 
 from ._attractors import Attractor, Census, attractors
 from ._backbone import Backbone, exact_backbone
 from ._codegen import acceleration_source, compiled_kernels
 from ._compare import Comparison, compare
 from ._hysteresis import HysteresisLoop, hysteresis_loop
+from ._lanes import drive_table
 from ._natural_frequency import HeightSweep, natural_frequency_vs_height
+from ._orbits import Orbits
 from ._reference import reference_last_period
-from ._result import Simulation
-from ._simulate import drive_table, simulate, static_deflection
+from ._simulate import simulate
+from ._simulation import Simulation
 from ._steady import SteadyStates, steady_states
 from ._sweep import Sweep, SweepRun, sweep
 from ._validate import RECORDABLE
@@ -24,8 +29,10 @@ __all__ = [
     "Comparison",
     "HeightSweep",
     "HysteresisLoop",
+    "Orbits",
     "RECORDABLE",
     "Simulation",
+    "Status",
     "SteadyStates",
     "Sweep",
     "SweepRun",
@@ -36,10 +43,10 @@ __all__ = [
     "drive_table",
     "exact_backbone",
     "hysteresis_loop",
+    "load",
     "natural_frequency_vs_height",
     "reference_last_period",
     "simulate",
-    "static_deflection",
     "steady_states",
     "sweep",
 ]

@@ -8,16 +8,15 @@ multi-stability).
 from __future__ import annotations
 
 import time
-from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from perturb import ContactModel
+from common import Result, check_keys, check_positive, result
+from perturb import ContactModel, eq26_numbers
 
-from ._info import model_info
-from ._simulate import simulate, static_deflection
+from ._orbits import Orbits
+from ._simulate import check_model
 from ._steady import DEFAULTS, steady_states
-from ._validate import lane_array
 
 __all__ = ["Attractor", "Census", "attractors", "DEFAULT_GRID"]
 
@@ -32,8 +31,8 @@ DEFAULT_GRID = {
 CLUSTER_TOL = 1e-3  # relative to the orbit's App: states closer than this are one orbit
 
 
-@dataclass
-class Attractor:
+@result
+class Attractor(Result):
     """One steady state found by the census."""
 
     period: int
@@ -43,8 +42,10 @@ class Attractor:
     basin_fraction: float
     contact_lost: bool
     dominant_harmonic: float  # frequency of the strongest harmonic of the acceleration, / f_e
-    orbit_y_m: np.ndarray = field(default=None, repr=False)  # y over one orbit, per step
+    multipliers: np.ndarray  # Floquet multipliers of the orbit (stable: inside the unit circle)
+    orbit_y_m: np.ndarray  # y after every step of one orbit
 
+    @property
     def label(self) -> str:
         """The resonance the orbit belongs to, by its strongest harmonic (Section 3.2)."""
         m = self.dominant_harmonic
@@ -52,53 +53,62 @@ class Attractor:
             return f"period-{self.period} ({m:g} f_e strongest)"
         return "primary" if m == 1 else f"1/{int(m)} superharmonic"
 
+    def derived(self) -> dict:
+        return {"label": self.label}
 
-@dataclass
-class Census:
-    """The attractors at one (P_a, f_e), largest basin first."""
+    def row(self, width: int = 24) -> str:
+        """The attractor as a row of the census table."""
+        return (f"{self.label:<{width}} period {self.period}  App {self.app_m * 1e9:9.2f} nm  "
+                f"ymin {self.ymin_m * 1e9:9.2f} nm  basin {self.basin_fraction:6.1%}"
+                f"{'  contact lost' if self.contact_lost else ''}")
 
-    f_e_hz: float
+    def summary(self) -> str:
+        return " ".join(self.row().split())
+
+
+@result
+class Census(Result):
+    """The attractors at one (P_a, f_e), largest basin first, and every lane's fate."""
+
+    frequency_hz: float
     pa_frac: float
-    attractors: list[Attractor]
-    not_settled_fraction: float
+    model: dict
     settings: dict
+    attractors: list[Attractor]
+    lanes: Orbits
     elapsed_s: float
 
-    def as_dict(self) -> dict:
-        return {"attractors": [_attractor_dict(a) for a in self.attractors],
-                "not_settled_fraction": self.not_settled_fraction,
-                "settings": self.settings, "elapsed_s": self.elapsed_s}
+    @property
+    def not_settled_fraction(self) -> float:
+        return float(1 - self.lanes.settled.mean())
 
-    def __str__(self) -> str:
-        lines = [f"{len(self.attractors)} attractors at f_e = {self.f_e_hz:g} Hz, "
-                 f"P_a = {self.pa_frac:g} Q ({self.elapsed_s:.2g} s)"]
-        width = max([24] + [len(a.label()) for a in self.attractors])
-        lines += [f"  {a.label():<{width}} period {a.period}  App {a.app_m * 1e9:9.2f} nm  "
-                  f"ymin {a.ymin_m * 1e9:9.2f} nm  basin {a.basin_fraction:6.1%}"
-                  f"{'  contact lost' if a.contact_lost else ''}" for a in self.attractors]
+    def derived(self) -> dict:
+        return {"not_settled_fraction": self.not_settled_fraction}
+
+    def summary(self) -> str:
+        return (f"{len(self.attractors)} attractors at f_e = {self.frequency_hz:g} Hz, "
+                f"P_a = {self.pa_frac:g} Q ({self.elapsed_s:.2g} s)")
+
+    def table(self) -> str:
+        width = max([24] + [len(a.label) for a in self.attractors])
+        lines = [f"  {a.row(width)}" for a in self.attractors]
         if self.not_settled_fraction:
             lines.append(f"  not settled: {self.not_settled_fraction:.1%} of initial states")
         return "\n".join(lines)
 
 
-def _attractor_dict(attractor: Attractor) -> dict:
-    out = asdict(attractor) | {"label": attractor.label()}
-    out.pop("orbit_y_m")
-    return out
-
-
 def initial_grid(model: ContactModel, grid: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The census's initial states [m, m/s] from a grid in units of y0 and omega0 y0."""
-    grid = DEFAULT_GRID if grid is None else grid
-    y0 = static_deflection(model)
-    omega0 = model_info(model)["omega0_rad_s"]
+    grid = DEFAULT_GRID if grid is None else check_keys("grid", grid, tuple(DEFAULT_GRID))
+    numbers = eq26_numbers(model.parameters)
+    y0, omega0 = numbers.y0_m, numbers.omega0_rad_s
     y, v = np.meshgrid(y0 * np.asarray(grid["y_over_y0"], float),
                        omega0 * y0 * np.asarray(grid["v_over_omega0_y0"], float))
     return y.ravel(), v.ravel()
 
 
 def attractors(
-    f_e_hz: float,
+    frequency_hz: float,
     pa_frac: float,
     *,
     model: ContactModel | None = None,
@@ -109,44 +119,55 @@ def attractors(
 ) -> Census:
     """Find and cluster the steady states reached from a grid of initial states.
 
+    Parameters
+    ----------
+    frequency_hz : float
+        Excitation frequency f_e [Hz].
+    pa_frac : float
+        Force amplitude P_a as a fraction of the weight Q.
+    model : ContactModel, optional
+    grid : dict, optional
+        Initial states: ``{"y_over_y0": [...], "v_over_omega0_y0": [...]}``
+        (``DEFAULT_GRID`` by default).
+    steps_per_period, tol, max_periods
+        As in ``steady_states``.
+
     Examples
     --------
     >>> census = attractors(740.0, 0.15)
-    >>> [(a.label(), a.contact_lost) for a in census.attractors]
+    >>> [(a.label, a.contact_lost) for a in census.attractors]
     [('1/2 superharmonic', False), ('primary', True)]
     """
-    model = ContactModel() if model is None else model
-    f_e = float(lane_array("f_e_hz", f_e_hz, positive=True)[0])
-    frac = float(lane_array("pa_frac", pa_frac)[0])
+    model = check_model(model)
+    f_e = check_positive("frequency_hz", frequency_hz)
+    frac = check_positive("pa_frac", pa_frac, allow_zero=True)
     start = time.perf_counter()
     y, v = initial_grid(model, grid)
-    found = steady_states(np.full(y.size, f_e), frac * model.parameters.weight_n, model=model,
-                          y_init=y, v_init=v, steps_per_period=steps_per_period, tol=tol,
-                          max_periods=max_periods)
-    groups = _cluster(found)
-    census = [
-        _describe(found, members, y.size, model, f_e, frac, steps_per_period)
-        for members in groups
-    ]
+    found = steady_states(np.full(y.size, f_e), frac * model.parameters.Q_n, model=model,
+                          y_init_m=y, v_init_m_s=v, steps_per_period=steps_per_period, tol=tol,
+                          max_periods=max_periods, keep_orbits=True)
+    census = [_describe(found, members, y.size) for members in _cluster(found)]
     census.sort(key=lambda a: -a.basin_fraction)
-    settings = {"f_e_hz": f_e, "pa_frac": frac, "initial_states": int(y.size),
-                "grid": grid or DEFAULT_GRID, "steps_per_period": steps_per_period, "tol": tol,
-                "max_periods": max_periods, "cluster_tol": CLUSTER_TOL}
-    return Census(f_e_hz=f_e, pa_frac=frac, attractors=census,
-                  not_settled_fraction=float(1 - found.settled.mean()), settings=settings,
-                  elapsed_s=time.perf_counter() - start)
+    lanes = found.take(np.arange(y.size))
+    lanes.orbit_y_m = None  # each attractor keeps its own orbit
+    settings = {"initial_states": int(y.size), "grid": grid or DEFAULT_GRID,
+                "steps_per_period": steps_per_period, "tol": tol, "max_periods": max_periods,
+                "cluster_tol": CLUSTER_TOL}
+    return Census(frequency_hz=f_e, pa_frac=frac, model=model.as_dict(), settings=settings,
+                  attractors=census, lanes=lanes, elapsed_s=time.perf_counter() - start)
 
 
 def _cluster(found) -> list[np.ndarray]:
     """Group settled lanes whose period matches and whose ymin, ymax agree within tol."""
     groups: list[list[int]] = []
+    app = found.app_m
     for lane in np.flatnonzero(found.settled):
         for group in groups:
             first = group[0]
-            scale = max(found.app[first], 1e-30)
+            scale = max(app[first], 1e-30)
             same = (found.period[first] == found.period[lane]
-                    and abs(found.ymin[first] - found.ymin[lane]) < CLUSTER_TOL * scale
-                    and abs(found.ymax[first] - found.ymax[lane]) < CLUSTER_TOL * scale)
+                    and abs(found.ymin_m[first] - found.ymin_m[lane]) < CLUSTER_TOL * scale
+                    and abs(found.ymax_m[first] - found.ymax_m[lane]) < CLUSTER_TOL * scale)
             if same:
                 group.append(lane)
                 break
@@ -155,25 +176,17 @@ def _cluster(found) -> list[np.ndarray]:
     return [np.array(g) for g in groups]
 
 
-def _describe(found, members, total, model, f_e, frac, steps) -> Attractor:
+def _describe(found, members, total) -> Attractor:
     lane = members[0]
     p = int(found.period[lane])
-    orbit = _orbit(found, lane, model, f_e, frac, int(found.steps_used[lane]))
+    orbit = found.orbit_y_m[lane]
     return Attractor(
-        period=p, app_m=float(found.app[lane]), ymin_m=float(found.ymin[lane]),
-        ymax_m=float(found.ymax[lane]), basin_fraction=members.size / total,
-        contact_lost=bool(found.ymin[lane] < 0),
-        dominant_harmonic=_dominant_harmonic(orbit, p), orbit_y_m=orbit,
+        period=p, app_m=float(found.app_m[lane]), ymin_m=float(found.ymin_m[lane]),
+        ymax_m=float(found.ymax_m[lane]), basin_fraction=members.size / total,
+        contact_lost=bool(found.ymin_m[lane] < 0),
+        dominant_harmonic=_dominant_harmonic(orbit, p), multipliers=found.multipliers[lane],
+        orbit_y_m=orbit,
     )
-
-
-def _orbit(found, lane, model, f_e, frac, steps) -> np.ndarray:
-    """y after every step of one orbit (p periods) from the lane's orbit start."""
-    p = int(found.period[lane])
-    run = simulate(f_e, frac * model.parameters.weight_n, periods=p, steps_per_period=steps,
-                   model=model, y_init=found.y_start[lane], v_init=found.v_start[lane],
-                   record=("history",), record_periods=p)
-    return run.history_y[0]
 
 
 def _dominant_harmonic(orbit: np.ndarray, period: int) -> float:

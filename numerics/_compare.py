@@ -7,11 +7,21 @@ Eq. 2.6 (contact loss, or the damping law while in contact).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import time
+from dataclasses import asdict
 
 import numpy as np
 
-from perturb import PAPER_BAND_HZ
+from common import (
+    Result,
+    check_int,
+    check_positive,
+    lane_array,
+    lookup,
+    progress,
+    result,
+)
+from perturb import PAPER_BAND_HZ, ContactModel
 
 from ._compare_backbone import BackboneComparison, compare_backbones
 from ._compare_response import (
@@ -22,17 +32,21 @@ from ._compare_response import (
     compare_response,
     steady_curve,
 )
-from common import progress
 
 __all__ = ["Comparison", "compare", "model_parting"]
 
 
-@dataclass
-class Comparison:
+@result
+class Comparison(Result):
     """Series of several orders against the exact backbone and RK4 steady states.
 
     Attributes
     ----------
+    model : dict
+        The full model (``ContactModel.as_dict()``); the curves named "eq26" use
+        the same parameters with the effects of Eq. 2.6 (``settings["models"]``).
+    settings : dict
+        orders, pa_frac, steps_per_period, tolerance, and the effects of each RK4 model.
     backbone : BackboneComparison
     curves : list of SteadyCurve
         RK4 steady states per (model, P_a).
@@ -44,41 +58,54 @@ class Comparison:
         The relative difference that counts as parting.
     """
 
+    model: dict
+    settings: dict
     backbone: BackboneComparison
     curves: list[SteadyCurve]
     responses: list[ResponseComparison]
     frequency_hz: np.ndarray
     tolerance: float
+    elapsed_s: float = 0.0
 
     @property
     def orders(self) -> tuple[int, ...]:
         return self.backbone.orders
 
     @property
-    def pa_fracs(self) -> tuple[float, ...]:
+    def pa_frac(self) -> tuple[float, ...]:
         return tuple(sorted({c.pa_frac for c in self.curves}))
 
-    def curve(self, model: str, pa_frac: float) -> SteadyCurve:
-        return next(c for c in self.curves if c.model == model and np.isclose(c.pa_frac, pa_frac))
+    def curve(self, model_name: str, pa_frac: float) -> SteadyCurve:
+        """The RK4 curve of one model and P_a (a KeyError lists the curves there are)."""
+        return lookup(f"curve {model_name!r} at pa_frac={pa_frac!r}", self.curves,
+                      lambda c: c.model_name == model_name and np.isclose(c.pa_frac, pa_frac),
+                      lambda c: (c.model_name, c.pa_frac))
 
-    def response(self, model: str, pa_frac: float, order: int) -> ResponseComparison:
-        return next(r for r in self.responses if r.model == model and r.order == order
-                    and np.isclose(r.pa_frac, pa_frac))
+    def response(self, model_name: str, pa_frac: float, order: int) -> ResponseComparison:
+        """One order's comparison (a KeyError lists the comparisons there are)."""
+        return lookup(f"response {model_name!r} at pa_frac={pa_frac!r}, order {order!r}",
+                      self.responses,
+                      lambda r: (r.model_name == model_name and r.order == order
+                                 and np.isclose(r.pa_frac, pa_frac)),
+                      lambda r: (r.model_name, r.pa_frac, r.order))
 
     def parting(self, pa_frac: float) -> dict:
         """Where the full model's steady states part from those of Eq. 2.6."""
         return model_parting(self.curve("eq26", pa_frac), self.curve("full", pa_frac),
                              self.tolerance)
 
-    def as_json(self) -> dict:
-        return {
-            "frequency_hz": [float(self.frequency_hz[0]), float(self.frequency_hz[-1]),
-                             int(self.frequency_hz.size)],
-            "backbone": self.backbone.as_json(),
-            "responses": [r.as_json() for r in self.responses],
-            "parting": {f"{p:g}": self.parting(p) for p in self.pa_fracs},
-            "notes": [note for c in self.curves for note in c.notes],
-        }
+    def derived(self) -> dict:
+        return {"parting": {f"{p:g}": self.parting(p) for p in self.pa_frac},
+                "notes": [note for c in self.curves for note in c.notes]}
+
+    def summary(self) -> str:
+        return (f"Comparison: orders {list(self.orders)} at P_a = {list(self.pa_frac)} Q, "
+                f"{self.frequency_hz.size} frequencies, {self.elapsed_s:.3g} s")
+
+    def table(self) -> str:
+        from ._compare_table import format_comparison
+
+        return format_comparison(self)
 
 
 def model_parting(eq26: SteadyCurve, full: SteadyCurve, tolerance: float) -> dict:
@@ -99,33 +126,21 @@ def model_parting(eq26: SteadyCurve, full: SteadyCurve, tolerance: float) -> dic
     }
 
 
-def _checked(orders, pa_fracs, tolerance) -> tuple[tuple[int, ...], tuple[float, ...], float]:
+def _checked(orders, pa_frac, tolerance) -> tuple[tuple[int, ...], tuple[float, ...], float]:
     """The arguments of ``compare``, or a ValueError naming the one that is wrong."""
-    orders, pa_fracs = tuple(np.atleast_1d(orders)), tuple(np.atleast_1d(pa_fracs))
-    if not orders or not all(_is_int(n) and n >= 0 for n in orders):
+    orders = tuple(np.atleast_1d(np.asarray(orders, dtype=object)))
+    if not orders:
         raise ValueError(f"`orders` must be a non-empty sequence of integers >= 0, got {orders!r}.")
-    try:
-        fracs = np.asarray(pa_fracs, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"`pa_fracs` must be real numbers, got {pa_fracs!r}.") from None
-    if fracs.size == 0 or not np.all(np.isfinite(fracs) & (fracs >= 0)):
-        raise ValueError(f"`pa_fracs` must be a non-empty sequence of finite numbers >= 0, "
-                         f"got {pa_fracs!r}.")
-    tolerance = float(tolerance)
-    if not (np.isfinite(tolerance) and tolerance > 0):
-        raise ValueError(f"`tolerance` must be finite and > 0, got {tolerance!r}.")
-    return tuple(int(n) for n in orders), tuple(float(p) for p in fracs), tolerance
-
-
-def _is_int(value) -> bool:
-    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+    orders = tuple(check_int("orders", n, minimum=0) for n in orders)
+    fracs = tuple(float(p) for p in lane_array("pa_frac", pa_frac))
+    return orders, fracs, check_positive("tolerance", tolerance)
 
 
 def compare(
     orders=(2, 4, 6),
-    pa_fracs=(0.05, 0.10, 0.15),
+    pa_frac=(0.05, 0.10, 0.15),
     *,
-    frequencies_hz=None,
+    frequency_hz=None,
     steps_per_period: int = 128,
     tolerance: float = 0.01,
     quiet: bool = True,
@@ -136,9 +151,9 @@ def compare(
     ----------
     orders : sequence of int
         Orders N of the series.
-    pa_fracs : sequence of float
+    pa_frac : float or sequence of float
         Force amplitudes P_a as fractions of the weight Q.
-    frequencies_hz : array_like, optional
+    frequency_hz : array_like, optional
         Increasing frequency grid; by default the paper's band in 5 Hz steps.
     steps_per_period : int
         RK4 steps per period of the steady states.
@@ -154,24 +169,31 @@ def compare(
 
     Examples
     --------
-    >>> result = compare((4, 6), (0.05,), frequencies_hz=np.arange(700.0, 800.0, 5.0))
+    >>> result = compare((4, 6), 0.05, frequency_hz=np.arange(700.0, 800.0, 5.0))
     >>> [f"{result.response('eq26', 0.05, n).largest_error:.1e}" for n in (4, 6)]
     ['2.2e-04', '1.5e-05']
     """
-    orders, pa_fracs, tolerance = _checked(orders, pa_fracs, tolerance)
-    if frequencies_hz is None:
-        frequencies_hz = np.arange(PAPER_BAND_HZ[0], PAPER_BAND_HZ[1] + 1.0, 5.0)
-    grid = np.asarray(frequencies_hz, dtype=float)
+    orders, pa_frac, tolerance = _checked(orders, pa_frac, tolerance)
+    if frequency_hz is None:
+        frequency_hz = np.arange(PAPER_BAND_HZ[0], PAPER_BAND_HZ[1] + 1.0, 5.0)
+    grid = lane_array("frequency_hz", frequency_hz, positive=True)
+    if np.any(np.diff(grid) <= 0):
+        raise ValueError("`frequency_hz` must be strictly increasing.")
+    start = time.perf_counter()
     backbone = compare_backbones(orders, tolerance=tolerance)
     limits = dict(zip(backbone.orders, backbone.limit_app_m))
-    bar = progress(len(pa_fracs) * len(MODELS), "compare: RK4 sweeps", quiet=quiet)
+    bar = progress(len(pa_frac) * len(MODELS), "compare: RK4 sweeps", quiet=quiet)
     curves = []
-    for pa_frac in pa_fracs:
+    for frac in pa_frac:
         for model in MODELS:
-            curves.append(steady_curve(grid, float(pa_frac), model, steps_per_period))
+            curves.append(steady_curve(grid, frac, model, steps_per_period))
             bar.update()
     bar.close()
     responses = [compare_response(curve, n, grid, limits[n])
                  for curve in curves for n in backbone.orders]
-    return Comparison(backbone=backbone, curves=curves, responses=responses, frequency_hz=grid,
-                      tolerance=tolerance)
+    settings = {"orders": list(orders), "pa_frac": list(pa_frac),
+                "steps_per_period": steps_per_period, "tolerance": tolerance,
+                "models": {name: asdict(effects) for name, effects in MODELS.items()}}
+    return Comparison(model=ContactModel().as_dict(), settings=settings, backbone=backbone,
+                      curves=curves, responses=responses, frequency_hz=grid,
+                      tolerance=tolerance, elapsed_s=time.perf_counter() - start)

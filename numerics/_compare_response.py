@@ -11,12 +11,12 @@ where the slider loses contact or the damping's dependence on y matters.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
-from perturb import EQ_2_6, FULL, ContactModel, Eq26, frequency_response
+from common import Result, check_choice, result
+from perturb import EQ_2_6, FULL, ContactModel, eq26_numbers, frequency_response
 
+from ._orbits import Orbits
 from ._steady import steady_states
 from ._sweep import sweep
 
@@ -38,30 +38,23 @@ PEAK_WINDOWS = {1: (0.15, 1.08), 2: (0.8, 1.08), 3: (0.8, 1.08)}
 UNMATCHED = 0.1
 
 
-@dataclass
-class SteadyCurve:
+@result
+class SteadyCurve(Orbits):
     """RK4 steady states of one model at one P_a, from sweeps up and down.
 
-    Arrays hold the up sweep's points, then the down sweep's, on the same grid.
+    The ``Orbits`` columns hold the up sweep's points, then the down sweep's, on
+    the same grid (increasing frequency in both halves).
     """
 
-    model: str
+    model_name: str
     pa_frac: float
-    frequency_hz: np.ndarray
-    app_m: np.ndarray
-    ymin_m: np.ndarray
     direction: np.ndarray
-    settled: np.ndarray
-    notes: list[str] = field(default_factory=list)
-
-    @property
-    def contact_lost(self) -> np.ndarray:
-        return self.ymin_m < 0
+    notes: list[str]
 
 
-@dataclass
-class PeakCheck:
-    """Place and height of one resonance peak, from RK4 and from the series."""
+@result
+class PeakCheck(Result):
+    """Place and height of one resonance peak f_e ~ f_n0 / k, from RK4 and from the series."""
 
     k: int
     rk4_hz: float
@@ -73,18 +66,21 @@ class PeakCheck:
     def height_ratio(self) -> float:
         return self.series_app_m / self.rk4_app_m
 
+    def derived(self) -> dict:
+        return {"height_ratio": self.height_ratio}
 
-@dataclass
-class ResponseComparison:
+
+@result
+class ResponseComparison(Result):
     """The order-N series against the RK4 steady states of one model at one P_a.
 
     Attributes
     ----------
-    model, pa_frac, order
+    model_name, pa_frac, order
         Which RK4 model ("eq26" or "full"), force amplitude and series order.
     frequency_hz, rk4_app_m, contact_lost : ndarray, shape (states,)
         The settled RK4 states.
-    series_app_m, error : ndarray, shape (states,)
+    series_app_m, relative_error : ndarray, shape (states,)
         The valid analytic response nearest to each state, and
         |App_series / App_RK4 - 1|; NaN where the series is not valid.
     unmatched : ndarray of bool, shape (states,)
@@ -99,14 +95,14 @@ class ResponseComparison:
         The primary, 1/2 and 1/3 superharmonic peaks (Eq. 3.1).
     """
 
-    model: str
+    model_name: str
     pa_frac: float
     order: int
     frequency_hz: np.ndarray
     rk4_app_m: np.ndarray
     contact_lost: np.ndarray
     series_app_m: np.ndarray
-    error: np.ndarray
+    relative_error: np.ndarray
     unmatched: np.ndarray
     largest_error: float
     largest_matched_error: float
@@ -115,57 +111,42 @@ class ResponseComparison:
     @property
     def matched(self) -> np.ndarray:
         """States where the series is valid and has a response within UNMATCHED."""
-        return np.isfinite(self.error) & ~self.unmatched
+        return np.isfinite(self.relative_error) & ~self.unmatched
 
-    def as_json(self) -> dict:
-        return {
-            "model": self.model, "pa_frac": self.pa_frac, "order": self.order,
-            "frequency_hz": self.frequency_hz.tolist(), "rk4_app_m": self.rk4_app_m.tolist(),
-            "series_app_m": _nan_to_none(self.series_app_m),
-            "largest_error": None if np.isnan(self.largest_error) else self.largest_error,
-            "largest_matched_error": (None if np.isnan(self.largest_matched_error)
-                                      else self.largest_matched_error),
-            "unmatched_hz": self.frequency_hz[self.unmatched].tolist(),
-            "peaks": [vars(p) | {"height_ratio": p.height_ratio} for p in self.peaks],
-        }
+    def derived(self) -> dict:
+        return {"unmatched_hz": self.frequency_hz[self.unmatched]}
+
+    def summary(self) -> str:
+        return (f"ResponseComparison: order {self.order} against {self.model_name} at "
+                f"P_a = {self.pa_frac:g} Q, largest error {self.largest_error:.2g}")
 
 
-def _nan_to_none(values: np.ndarray) -> list:
-    return [None if np.isnan(x) else float(x) for x in values]
-
-
-def _one_direction(grid, pa_frac, model, direction, steps) -> tuple[np.ndarray, ...] | str:
-    """App, ymin, settled along one sweep; a message instead if the sweep breaks down."""
+def _one_direction(grid, pa_frac, model, direction, steps) -> Orbits | str:
+    """The points of one sweep, on the increasing grid; a message if the sweep breaks down."""
     try:
-        run = sweep(grid, [pa_frac], direction=direction, model=model,
+        run = sweep(grid, pa_frac, direction=direction, model=model,
                     steps_per_period=steps).runs[0]
     except ValueError as error:  # a lane went non-finite (Eq. 2.6 escapes past its barrier)
         return f"{direction} sweep failed ({error}); steady states from rest instead"
-    back = slice(None, None, -1) if direction == "down" else slice(None)
-    return (np.asarray(run.app_m)[back], np.asarray(run.ymin_m)[back],
-            np.asarray(run.settled)[back])
+    order = np.arange(grid.size)
+    return run.take(order[::-1] if direction == "down" else order)
 
 
 def steady_curve(grid, pa_frac: float, model_name: str, steps_per_period: int = 128) -> SteadyCurve:
     """RK4 steady states of ``MODELS[model_name]`` along sweeps up and down of ``grid``."""
-    if model_name not in MODELS:
-        raise ValueError(f"`model_name` must be one of {sorted(MODELS)}, got {model_name!r}.")
+    check_choice("model_name", model_name, sorted(MODELS))
     model = ContactModel(effects=MODELS[model_name])
-    columns, notes = [], []
+    parts, notes = [], []
     for direction in ("up", "down"):
         found = _one_direction(grid, pa_frac, model, direction, steps_per_period)
         if isinstance(found, str):
             notes.append(found)
-            rest = steady_states(grid, pa_frac * model.parameters.weight_n, model=model,
-                                 steps_per_period=steps_per_period)
-            found = (rest.app, rest.ymin, rest.settled & ~rest.failed)
-        columns.append(found)
-    app, ymin, settled = (np.concatenate(parts) for parts in zip(*columns))
-    return SteadyCurve(
-        model=model_name, pa_frac=pa_frac, frequency_hz=np.tile(grid, 2), app_m=app,
-        ymin_m=ymin, direction=np.repeat(["up", "down"], grid.size), settled=settled,
-        notes=notes,
-    )
+            found = steady_states(grid, pa_frac * model.parameters.Q_n, model=model,
+                                  steps_per_period=steps_per_period)
+        parts.append(found)
+    return SteadyCurve(model_name=model_name, pa_frac=pa_frac,
+                       direction=np.repeat(["up", "down"], grid.size), notes=notes,
+                       **Orbits.stack(parts).columns())
 
 
 def _responses(response, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -232,8 +213,10 @@ def _peaks(states_f, states_app, series_f, series_app, f_n0) -> list[PeakCheck]:
         rk4 = _envelope(states_f, states_app, highest=k == 1)
         series = _envelope(series_f, series_app, highest=k == 1)
         window = PEAK_WINDOWS[k]
-        checks.append(PeakCheck(k, *_peak(*rk4, f_n0 / k, window),
-                                *_peak(*series, f_n0 / k, window)))
+        rk4_peak = _peak(*rk4, f_n0 / k, window)
+        series_peak = _peak(*series, f_n0 / k, window)
+        checks.append(PeakCheck(k=k, rk4_hz=rk4_peak[0], rk4_app_m=rk4_peak[1],
+                                series_hz=series_peak[0], series_app_m=series_peak[1]))
     return checks
 
 
@@ -258,10 +241,11 @@ def compare_response(
     matched = np.isfinite(error) & ~unmatched
     shown = np.where(valid_table, app_table, np.nan).ravel()
     peaks = _peaks(frequency, app, np.repeat(grid, app_table.shape[1]), shown,
-                   Eq26().numeric()["f_n0_hz"])
+                   eq26_numbers().f_n0_hz)
     return ResponseComparison(
-        model=curve.model, pa_frac=curve.pa_frac, order=order, frequency_hz=frequency,
-        rk4_app_m=app, contact_lost=curve.contact_lost[keep], series_app_m=series, error=error,
+        model_name=curve.model_name, pa_frac=curve.pa_frac, order=order, frequency_hz=frequency,
+        rk4_app_m=app, contact_lost=curve.contact_lost[keep], series_app_m=series,
+        relative_error=error,
         unmatched=unmatched, largest_error=_largest(error, np.isfinite(error)),
         largest_matched_error=_largest(error, matched), peaks=peaks,
     )

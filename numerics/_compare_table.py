@@ -32,7 +32,7 @@ def _backbone_lines(c: Comparison) -> list[str]:
 
 
 def _response_lines(c: Comparison) -> list[str]:
-    head = "".join(f"{f'P_a={p:.2f}Q':>30}" for p in c.pa_fracs)
+    head = "".join(f"{f'P_a={p:.2f}Q':>30}" for p in c.pa_frac)
     lines = [
         "Response: largest |App_series/App_RK4 - 1| where the series is valid "
         "(matched / settled states)",
@@ -44,9 +44,9 @@ def _response_lines(c: Comparison) -> list[str]:
     for n in c.orders:
         for model in ("eq26", "full"):
             cells = ""
-            for p in c.pa_fracs:
+            for p in c.pa_frac:
                 r = c.response(model, p, n)
-                cell = f"{_error(r.largest_error)} ({r.matched.sum()}/{r.error.size}"
+                cell = f"{_error(r.largest_error)} ({r.matched.sum()}/{r.relative_error.size}"
                 if r.unmatched.any():
                     cell += f"+{r.unmatched.sum()}) [{_error(r.largest_matched_error)}]"
                 else:
@@ -60,7 +60,7 @@ def _peak_lines(c: Comparison) -> list[str]:
     n = max(c.orders)
     lines = [f"Peaks near f_n0/k: place [Hz] and height A_pp [nm], RK4 against order {n}"]
     lines.append(f"{'k':>3}{'P_a/Q':>7}{'RK4 Eq. 2.6':>18}{'RK4 full':>18}{'series (valid)':>18}")
-    for p in c.pa_fracs:
+    for p in c.pa_frac:
         eq26, full = c.response("eq26", p, n), c.response("full", p, n)
         for a, b in zip(eq26.peaks, full.peaks):
             cells = [(a.rk4_hz, a.rk4_app_m), (b.rk4_hz, b.rk4_app_m),
@@ -75,7 +75,7 @@ def _peak_lines(c: Comparison) -> list[str]:
 
 def _parting_lines(c: Comparison) -> list[str]:
     lines = [f"RK4 full model against RK4 Eq. 2.6 (App differing by more than {c.tolerance:g})"]
-    for p in c.pa_fracs:
+    for p in c.pa_frac:
         d = c.parting(p)
         where = d["in_contact_hz"]
         span = f" ({where[0]:.0f}-{where[-1]:.0f} Hz, the damping law)" if where else ""
@@ -93,7 +93,7 @@ def format_comparison(comparison: Comparison) -> str:
     Examples
     --------
     >>> from numerics._compare import compare
-    >>> result = compare((4, 6), (0.05,), frequencies_hz=np.arange(700.0, 800.0, 5.0))
+    >>> result = compare((4, 6), 0.05, frequency_hz=np.arange(700.0, 800.0, 5.0))
     >>> print(format_comparison(result).splitlines()[5])
          4          193.9           390.0*               540.1
     """

@@ -3,71 +3,56 @@
 from __future__ import annotations
 
 import time
-from functools import lru_cache
 
 import numpy as np
 
-from perturb import ContactModel, Eq26
+from common import Status, check_int, finite_array, lane_array
+from perturb import ContactModel, eq26_numbers
 
-from ._codegen import compiled_kernels
-from ._result import Simulation
-from ._validate import check_record, finite_array, lane_array, positive_int
+from ._lanes import Lanes
+from ._simulation import Simulation
+from ._validate import check_record
 
-__all__ = ["simulate", "drive_table", "static_deflection", "divergence_limit"]
-
-
-def drive_table(steps_per_period: int) -> np.ndarray:
-    """cos(2 pi j / 2N) for j = 0..2N: the drive at every RK4 stage of a period."""
-    return np.cos(np.pi * np.arange(2 * steps_per_period + 1) / steps_per_period)
+__all__ = ["simulate", "check_model", "initial_lanes"]
 
 
-#: A lane fails when |y| exceeds this many times max(y0, g / f_e^2): far beyond any
-#: flight the drive can cause (g / f_e^2 is 8x the height of a period's free
-#: flight), so only an unstable step or a model with no floor gets there.
-DIVERGENCE_FACTOR = 1e3
+def check_model(model) -> ContactModel:
+    """The model (the paper's full model when None), or a ValueError."""
+    model = ContactModel() if model is None else model
+    if not isinstance(model, ContactModel):
+        raise ValueError(f"`model` must be a perturb.ContactModel, got {model!r}.")
+    return model
 
 
-def divergence_limit(model: ContactModel, f_e: np.ndarray) -> np.ndarray:
-    """Per lane, the |y| [m] beyond which the lane is marked failed."""
-    y0 = static_deflection(model)
-    return DIVERGENCE_FACTOR * np.maximum(y0, model.parameters.g / f_e**2)
+def initial_lanes(frequency_hz, p_a_n, y_init_m, v_init_m_s, model, **more):
+    """The lanes' arrays broadcast to one count; rest at y0 by default.
 
-
-def static_deflection(model: ContactModel) -> float:
-    """y0 of the model [m], the default initial state."""
-    return _static_deflection_m(model.parameters)
-
-
-@lru_cache(maxsize=64)
-def _static_deflection_m(parameters) -> float:
-    model = ContactModel(parameters)
-    return model.numeric(model.static_deflection)
-
-
-def _lanes(f_e_hz, p_a_n, y_init, v_init, model):
-    f_e = lane_array("f_e_hz", f_e_hz, positive=True)
+    ``more`` are further per-lane arrays (already checked) to broadcast with them.
+    """
+    f_e = lane_array("frequency_hz", frequency_hz, positive=True)
     p_a = lane_array("p_a_n", p_a_n)
-    y = finite_array("y_init", static_deflection(model) if y_init is None else y_init)
-    v = finite_array("v_init", 0.0 if v_init is None else v_init)
+    y0 = eq26_numbers(model.parameters).y0_m
+    y = finite_array("y_init_m", y0 if y_init_m is None else y_init_m)
+    v = finite_array("v_init_m_s", 0.0 if v_init_m_s is None else v_init_m_s)
+    named = {"frequency_hz": f_e, "p_a_n": p_a, "y_init_m": y, "v_init_m_s": v, **more}
     try:
-        arrays = np.broadcast_arrays(f_e, p_a, y, v)
+        arrays = np.broadcast_arrays(*named.values())
     except ValueError:
-        raise ValueError(
-            "`f_e_hz`, `p_a_n`, `y_init`, `v_init` must broadcast to one lane count, got "
-            f"{f_e.shape}, {p_a.shape}, {y.shape}, {v.shape}."
-        ) from None
-    return [np.array(a, dtype=float) for a in arrays]
+        shapes = ", ".join(f"`{k}` {a.shape}" for k, a in named.items())
+        raise ValueError(f"the lane arguments must broadcast to one lane count, got {shapes}.") \
+            from None
+    return [np.array(a) for a in arrays]
 
 
 def simulate(
-    f_e_hz,
+    frequency_hz,
     p_a_n,
     *,
     periods: int,
     steps_per_period: int = 128,
     model: ContactModel | None = None,
-    y_init=None,
-    v_init=None,
+    y_init_m=None,
+    v_init_m_s=None,
     record=("final", "minmax"),
     record_periods: int = 1,
     max_extrema: int = 64,
@@ -80,15 +65,15 @@ def simulate(
 
     Parameters
     ----------
-    f_e_hz, p_a_n : float or array_like, shape (lanes,)
-        Excitation frequency [Hz] (> 0) and force amplitude P_a [N] (>= 0).
+    frequency_hz, p_a_n : float or array_like, shape (lanes,)
+        Excitation frequency f_e [Hz] (> 0) and force amplitude P_a [N] (>= 0).
     periods : int
         Excitation periods to run, the recorded ones included.
     steps_per_period : int
         RK4 steps per period, at least 4.
     model : ContactModel, optional
         The model and its effects; the paper's full model by default.
-    y_init, v_init : float or array_like, optional
+    y_init_m, v_init_m_s : float or array_like, optional
         Initial state [m, m/s]; rest at the static deflection y0 by default.
     record : sequence of {"final", "minmax", "extrema", "history"}
         Observables to record over the last ``record_periods`` periods;
@@ -98,7 +83,8 @@ def simulate(
     max_extrema : int
         Room for local extrema per lane (with "extrema").
     throw : bool
-        Raise a RuntimeError if a lane fails, instead of marking it.
+        Raise a RuntimeError if a lane fails, instead of giving it the status
+        ``Status.FAILED`` and a message.
 
     Returns
     -------
@@ -107,96 +93,58 @@ def simulate(
     Examples
     --------
     >>> from perturb import PAPER
-    >>> run = simulate([1000.0, 1400.0], 0.05 * PAPER.weight_n, periods=200)
-    >>> [f"{a * 1e9:.2f} nm" for a in run.app]
+    >>> run = simulate([1000.0, 1400.0], 0.05 * PAPER.Q_n, periods=200)
+    >>> [f"{a * 1e9:.2f} nm" for a in run.app_m]
     ['20.58 nm', '106.08 nm']
     """
-    model = ContactModel() if model is None else model
-    if not isinstance(model, ContactModel):
-        raise ValueError(f"`model` must be a perturb.ContactModel, got {model!r}.")
-    steps = positive_int("steps_per_period", steps_per_period, minimum=4)
-    periods = positive_int("periods", periods)
-    record_periods = positive_int("record_periods", record_periods)
+    model = check_model(model)
+    steps = check_int("steps_per_period", steps_per_period, minimum=4)
+    periods = check_int("periods", periods)
+    record_periods = check_int("record_periods", record_periods)
     if record_periods > periods:
         raise ValueError(f"`record_periods` must be <= periods={periods}, got {record_periods}.")
     names = check_record(record)
-    max_extrema = positive_int("max_extrema", max_extrema)
-    f_e, p_a, y, v = _lanes(f_e_hz, p_a_n, y_init, v_init, model)
+    max_extrema = check_int("max_extrema", max_extrema)
+    f_e, p_a, y, v = initial_lanes(frequency_hz, p_a_n, y_init_m, v_init_m_s, model)
 
     start = time.perf_counter()
-    kernels = compiled_kernels(model)
-    dt = 1.0 / (steps * f_e)
-    drive = drive_table(steps)
+    lanes = Lanes(model, f_e, p_a, steps)
     failed_period = np.full(f_e.shape[0], -1, dtype=np.int64)
-    limit = divergence_limit(model, f_e)
-    kernels.advance_periods(y, v, dt, p_a, drive, periods - record_periods, failed_period, limit)
-    observed = _record(kernels, names, y, v, dt, p_a, drive, failed_period, periods,
-                       record_periods, steps, max_extrema, limit)
+    lanes.advance(y, v, periods - record_periods, failed_period)
+    recording = lanes.record(y, v, record_periods, failed_period, periods - record_periods,
+                             extrema_width=max_extrema if "extrema" in names else 0,
+                             history="history" in names)
     result = Simulation(
-        f_e_hz=f_e, p_a_n=p_a, model=repr(model), steps_per_period=steps, periods=periods,
-        record_periods=record_periods, y_final=y, v_final=v, failed=failed_period >= 0,
-        messages=_failure_messages(failed_period, f_e, p_a, model, steps), **observed,
+        frequency_hz=f_e, p_a_n=p_a, model=model.as_dict(),
+        settings={"steps_per_period": steps, "periods": periods,
+                  "record_periods": record_periods, "record": list(names),
+                  "max_extrema": max_extrema},
+        status=np.where(failed_period >= 0, Status.FAILED, Status.SUCCESS),
+        message=lanes.failure_messages(failed_period),
+        y_final_m=y, v_final_m_s=v, **_observed(recording, names, record_periods, steps),
         elapsed_s=time.perf_counter() - start,
     )
     if throw and result.failed.any():
-        raise RuntimeError("; ".join(result.messages))
+        raise RuntimeError("; ".join(f"lane {i}: {m}" for i, m in enumerate(result.message) if m))
     return result
 
 
-def _record(kernels, names, y, v, dt, p_a, drive, failed_period, periods, record_periods,
-            steps, max_extrema, limit) -> dict:
-    lanes = y.shape[0]
-    want_extrema = "extrema" in names
-    want_history = "history" in names
-    width = max_extrema if want_extrema else 0
-    ymin, ymax = np.empty(lanes), np.empty(lanes)
-    ext_value = np.empty((lanes, width))
-    ext_phase = np.empty((lanes, width))
-    ext_kind = np.empty((lanes, width), dtype=np.int8)
-    ext_count = np.zeros(lanes, dtype=np.int64)
-    history = (lanes, record_periods * steps) if want_history else (lanes, 0)
-    history_y, history_v = np.empty(history), np.empty(history)
-    kernels.record_periods(
-        y, v, dt, p_a, drive, record_periods, failed_period, periods - record_periods,
-        ymin, ymax, ext_value, ext_phase, ext_kind, ext_count, history_y, history_v, limit,
-    )
+def _observed(recording, names, record_periods: int, steps: int) -> dict:
+    """The observables asked for, and nothing else."""
     observed: dict = {}
-    if "minmax" in names or want_extrema:
-        observed.update(ymin=ymin, ymax=ymax)
-    if want_extrema:
-        if (ext_count > width).any():
+    if "minmax" in names or "extrema" in names:
+        observed.update(ymin_m=recording.ymin, ymax_m=recording.ymax)
+    if "extrema" in names:
+        width = recording.value.shape[1]
+        if (recording.count > width).any():
             raise RuntimeError(
-                f"a lane had {int(ext_count.max())} local extrema, more than "
+                f"a lane had {int(recording.count.max())} local extrema, more than "
                 f"`max_extrema`={width}; raise it."
             )
-        observed["extrema"] = [
-            np.column_stack([ext_phase[i, :n], ext_value[i, :n], ext_kind[i, :n]])
-            for i, n in enumerate(ext_count)
-        ]
-    if want_history:
+        observed["extrema"] = [recording.extrema(i) for i in range(recording.count.size)]
+    if "history" in names:
         observed.update(
             history_phase=np.arange(1, record_periods * steps + 1) / steps,
-            history_y=history_y, history_v=history_v,
+            history_y_m=recording.history_y, history_v_m_s=recording.history_v,
         )
     return observed
-
-
-def _failure_messages(failed_period, f_e, p_a, model, steps) -> list[str]:
-    if not (failed_period >= 0).any():
-        return []  # no need for omega0 (its first derivation costs a sympy run)
-    # RK4 is stable for omega * dt below 2 sqrt(2) on an undamped oscillator.
-    omega0 = Eq26(model).numeric()["omega0_rad_s"]
-    return [
-        f"lane {i} (f_e={f_e[i]:g} Hz, P_a={p_a[i]:g} N): state became non-finite or "
-        f"diverged (|y| > {DIVERGENCE_FACTOR:g} max(y0, g/f_e^2)) in period {int(p)}"
-        + _step_hint(omega0 / (steps * f_e[i]))
-        for i, p in enumerate(failed_period)
-        if p >= 0
-    ]
-
-
-def _step_hint(omega_dt: float) -> str:
-    if omega_dt < 2.0:
-        return ""
-    return (f"; the step is too large for the contact: omega0*dt = {omega_dt:.3g} "
-            "(RK4 needs < 2.8): raise steps_per_period")

@@ -17,15 +17,15 @@ after p periods, p in 1, 2, 4, 8. Two routes reach that state:
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
 
 import numpy as np
 
-from perturb import ContactModel
+from common import Status, check_choice, check_int, check_positive, lane_array, result
+from perturb import ContactModel, eq26_numbers
 
-from ._codegen import compiled_kernels
-from ._simulate import divergence_limit, drive_table, static_deflection
-from ._validate import finite_array, lane_array, positive_int
+from ._lanes import Lanes
+from ._orbits import Orbits
+from ._simulate import check_model, initial_lanes
 
 __all__ = ["SteadyStates", "steady_states", "DEFAULTS"]
 
@@ -42,83 +42,35 @@ _VERIFY_SHRINK = 0.5  # by how much the distance to that orbit must shrink meanw
 _EXTREMA_PER_PERIOD = 64  # room for local extrema per period of the response
 
 
-@dataclass
-class SteadyStates:
-    """Steady states found per lane, and how.
+@result
+class SteadyStates(Orbits):
+    """Steady states found per lane, and how (the columns of ``Orbits``).
 
     Attributes
     ----------
-    settled : ndarray of bool
-        Whether the stroboscopic state repeated within ``tol`` (else: not
-        settled within ``max_periods``: quasi-periodic, chaotic or slow).
-    period : ndarray of int
-        p, the period of the orbit in excitation periods (0 if not settled).
-    y_start, v_start : ndarray
-        The state at phase 0 on the orbit [m, m/s].
-    ymin, ymax : ndarray
-        Extremes of y over one period of the response (p excitation periods).
-    maxima, minima : list of ndarray
-        Every local maximum and minimum of y over that period (Fig. 3).
-    multipliers : ndarray, shape (lanes, 2), complex
-        Floquet multipliers of the orbit (NaN where not computed).
-    method : ndarray of str
-        "newton", "march+newton", "march", or "none".
-    periods_run : ndarray of int
-        Excitation periods integrated for the lane (its cost).
-    steps_used : ndarray of int
-        Steps per period of the lane's result (see ``refinements``).
+    model : dict
+        The model that made them (``ContactModel.as_dict()``).
+    settings : dict
+        steps_per_period, tol, max_periods, method, refinements.
+    elapsed_s : float
     """
 
-    f_e_hz: np.ndarray
-    p_a_n: np.ndarray
-    model: str
-    steps_per_period: int
-    tol: float
-    settled: np.ndarray
-    period: np.ndarray
-    y_start: np.ndarray
-    v_start: np.ndarray
-    ymin: np.ndarray
-    ymax: np.ndarray
-    maxima: list
-    minima: list
-    multipliers: np.ndarray
-    method: np.ndarray
-    periods_run: np.ndarray
-    failed: np.ndarray
-    steps_used: np.ndarray
-    messages: list[str] = field(default_factory=list)
+    model: dict
+    settings: dict
     elapsed_s: float = 0.0
 
-    @property
-    def app(self) -> np.ndarray:
-        """A_pp = ymax - ymin [m] (Fig. 2)."""
-        return self.ymax - self.ymin
-
-    @property
-    def contact_lost(self) -> np.ndarray:
-        """ymin < 0: the slider leaves the slideway (Fig. 3b-j)."""
-        return self.ymin < 0
-
-    def __str__(self) -> str:
-        counts = {m: int((self.method == m).sum()) for m in np.unique(self.method)}
-        return (
-            f"SteadyStates: {self.settled.sum()}/{len(self.settled)} settled, periods "
-            f"{sorted(set(self.period.tolist()))}, {counts}, {self.elapsed_s:.3g} s"
-        )
+    def summary(self) -> str:
+        return f"{super().summary()}, {self.elapsed_s:.3g} s"
 
 
-class _Batch:
-    """The lanes being solved, with their compiled kernels and scales."""
+class _Batch(Lanes):
+    """The lanes being solved (kernels, steps, drive, limits), with their scales."""
 
     def __init__(self, model, f_e, p_a, steps, tol):
-        self.kernels = compiled_kernels(model)
-        self.p_a, self.tol = p_a, tol
-        self.dt = 1.0 / (steps * f_e)
-        self.drive = drive_table(steps)
-        self.length = static_deflection(model) or 1.0
+        super().__init__(model, f_e, p_a, steps)
+        self.tol = tol
+        self.length = eq26_numbers(model.parameters).y0_m or 1.0
         self.omega = 2 * np.pi * f_e
-        self.limit = divergence_limit(model, f_e)
         self.periods_run = np.zeros(f_e.shape[0], dtype=np.int64)
 
     def scale(self, span):
@@ -262,34 +214,36 @@ def _stable(multipliers: np.ndarray) -> np.ndarray:
 
 
 def steady_states(
-    f_e_hz,
+    frequency_hz,
     p_a_n,
     *,
     model: ContactModel | None = None,
-    y_init=None,
-    v_init=None,
+    y_init_m=None,
+    v_init_m_s=None,
     period_guess=1,
-    span_guess=None,
+    app_guess_m=None,
     steps_per_period: int = DEFAULTS["steps_per_period"],
     tol: float = DEFAULTS["tol"],
     max_periods: int = DEFAULTS["max_periods"],
     method: str = "newton",
     refinements: int = DEFAULTS["refinements"],
+    keep_orbits: bool = False,
 ) -> SteadyStates:
     """Find the steady state reached from each lane's initial state.
 
     Parameters
     ----------
-    f_e_hz, p_a_n : float or array_like, shape (lanes,)
-        Excitation frequency [Hz] and force amplitude [N].
+    frequency_hz, p_a_n : float or array_like, shape (lanes,)
+        Excitation frequency f_e [Hz] and force amplitude P_a [N].
     model : ContactModel, optional
         The model (the paper's full model by default).
-    y_init, v_init : float or array_like, optional
-        Initial states (rest at y0 by default); for a sweep, the previous orbit.
+    y_init_m, v_init_m_s : float or array_like, optional
+        Initial states [m, m/s] (rest at y0 by default); for a sweep, the
+        previous orbit.
     period_guess : int or array_like
-        Period p of the orbit the initial states lie on (in a sweep, the
-        previous point's).
-    span_guess : float or array_like, optional
+        Period p (1, 2, 4 or 8) of the orbit the initial states lie on (in a
+        sweep, the previous point's).
+    app_guess_m : float or array_like, optional
         App of that orbit [m]. When given, Newton shooting starts from the
         initial states and keeps a result only if it is stable and close to the
         start (continuation); other lanes are time-marched, then polished.
@@ -308,37 +262,38 @@ def steady_states(
         short impact at a low f_e takes few steps, and an under-resolved impact
         can look like a period-4 orbit or never settle. ``steps_used`` says
         which step each result comes from.
+    keep_orbits : bool
+        Also keep y after every step of each orbit (``orbit_y_m``).
+
+    Returns
+    -------
+    SteadyStates
+        One row per lane; ``status`` and ``message`` say which lanes settled.
 
     Examples
     --------
     >>> from perturb import PAPER
-    >>> found = steady_states([1000.0, 1480.0], 0.05 * PAPER.weight_n)  # from rest
+    >>> found = steady_states([1000.0, 1480.0], 0.05 * PAPER.Q_n)  # from rest
     >>> found.settled.tolist(), found.period.tolist()
     ([True, True], [1, 1])
-    >>> [f"{a * 1e9:.2f} nm" for a in found.app]
+    >>> [f"{a * 1e9:.2f} nm" for a in found.app_m]
     ['20.58 nm', '211.48 nm']
     """
-    methods = ("newton", "march")
-    if method not in methods:
-        raise ValueError(f"`method` must be one of {methods}, got {method!r}.")
-    model = ContactModel() if model is None else model
-    steps = positive_int("steps_per_period", steps_per_period, minimum=4)
-    max_periods = positive_int("max_periods", max_periods)
-    tol = float(lane_array("tol", tol, positive=True)[0])
-    f_e = lane_array("f_e_hz", f_e_hz, positive=True)
-    p_a = lane_array("p_a_n", p_a_n)
-    y_init = static_deflection(model) if y_init is None else y_init
-    v_init = 0.0 if v_init is None else v_init
-    arrays = np.broadcast_arrays(
-        f_e, p_a, finite_array("y_init", y_init), finite_array("v_init", v_init),
-        np.atleast_1d(np.asarray(period_guess, dtype=np.int64)),
-        lane_array("span_guess", 0.0 if span_guess is None else span_guess),
-    )
-    f_e, p_a, y, v, guess, span = (np.array(a) for a in arrays)
-    refinements = positive_int("refinements", refinements, minimum=0)
+    check_choice("method", method, ("newton", "march"))
+    model = check_model(model)
+    steps = check_int("steps_per_period", steps_per_period, minimum=4)
+    max_periods = check_int("max_periods", max_periods)
+    refinements = check_int("refinements", refinements, minimum=0)
+    tol = check_positive("tol", tol)
+    guesses = np.atleast_1d(np.asarray(period_guess))
+    if not np.isin(guesses, PERIODS_TRIED).all():
+        raise ValueError(f"`period_guess` must be one of {PERIODS_TRIED}, got {period_guess!r}.")
+    f_e, p_a, y, v, guess, span = initial_lanes(
+        frequency_hz, p_a_n, y_init_m, v_init_m_s, model, period_guess=guesses.astype(np.int64),
+        app_guess_m=lane_array("app_guess_m", 0.0 if app_guess_m is None else app_guess_m))
     start = time.perf_counter()
     solve = dict(model=model, tol=tol, max_periods=max_periods, method=method,
-                 continuation=span_guess is not None)
+                 continuation=app_guess_m is not None, keep_orbits=keep_orbits)
     lanes = np.arange(f_e.shape[0])
     state = _solve(lanes, f_e, p_a, y, v, guess, span, steps=steps, **solve)
     for level in range(1, refinements + 1):
@@ -348,26 +303,20 @@ def steady_states(
         if not redo.size:
             break
         finer = _solve(redo, f_e, p_a, y, v, guess, span, steps=steps * 2**level, **solve)
-        state.merge(redo, finer)
-    return SteadyStates(
-        f_e_hz=f_e, p_a_n=p_a, model=repr(model), steps_per_period=steps, tol=tol,
-        settled=state.settled, period=state.period, y_start=state.y_start,
-        v_start=state.v_start, multipliers=state.multipliers, method=state.method,
-        periods_run=state.periods_run, failed=state.failed_period >= 0,
-        steps_used=state.steps_used, ymin=state.ymin, ymax=state.ymax,
-        maxima=state.maxima, minima=state.minima,
-        messages=[f"lane {i}: state became non-finite or diverged in period {p}"
-                  for i, p in enumerate(state.failed_period) if p >= 0],
-        elapsed_s=time.perf_counter() - start,
-    )
+        _merge(state, redo, finer)
+    settings = {"steps_per_period": steps, "tol": tol, "max_periods": max_periods,
+                "method": method, "refinements": refinements}
+    return SteadyStates(**state.columns(), model=model.as_dict(), settings=settings,
+                        elapsed_s=time.perf_counter() - start)
 
 
 def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, max_periods, method,
-           continuation) -> "_Solution":
+           continuation, keep_orbits) -> Orbits:
     """One pass at a fixed step: Newton continuation, then marching and polishing."""
     f_e, p_a, y, v, guess, span = (a[lanes] for a in (f_e, p_a, y, v, guess, span))
     batch = _Batch(model, f_e, p_a, steps, tol)
-    state = _Solution(lanes.size, steps)
+    state = Orbits.empty(f_e, p_a, steps)
+    failed_period = np.full(lanes.size, -1, dtype=np.int64)
     if method == "newton" and continuation:
         # Continuation: follow the orbit the initial states lie on.
         for p in np.unique(guess):
@@ -376,12 +325,11 @@ def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, max_periods
                                             _REACH_CONTINUATION)
             ok[ok] = batch.follows(group[ok], y[group][ok], v[group][ok], yn[ok], vn[ok], int(p),
                                    span[group][ok])
-            state.accept(group[ok], yn[ok], vn[ok], int(p), mult[ok], "newton")
+            _accept(state, group[ok], yn[ok], vn[ok], int(p), mult[ok], "newton")
     rest = np.flatnonzero(~state.settled)
     if rest.size:
-        period, ym, vm, span_m = batch.march(rest, y[rest], v[rest], max_periods,
-                                             state.failed_period)
-        state.y_start[rest], state.v_start[rest] = ym, vm
+        period, ym, vm, span_m = batch.march(rest, y[rest], v[rest], max_periods, failed_period)
+        state.y_start_m[rest], state.v_start_m_s[rest] = ym, vm
         for p in np.unique(period[period > 0]):
             chosen = period == p
             group, marched_y, marched_v = rest[chosen], ym[chosen], vm[chosen]
@@ -389,93 +337,79 @@ def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, max_periods
                 # Polish: the marched state is within about tol of the orbit.
                 ok, yn, vn, mult = batch.newton(group, marched_y, marched_v, int(p),
                                                 span_m[chosen], _REACH_POLISH)
-                state.accept(group[ok], yn[ok], vn[ok], int(p), mult[ok], "march+newton")
+                _accept(state, group[ok], yn[ok], vn[ok], int(p), mult[ok], "march+newton")
                 group, marched_y, marched_v = group[~ok], marched_y[~ok], marched_v[~ok]
-            state.accept(group, marched_y, marched_v, int(p), None, "march")
-    state.record(batch)
+            _accept(state, group, marched_y, marched_v, int(p), None, "march")
+    _record_orbits(batch, state, keep_orbits)
+    state.periods_run += batch.periods_run
+    _fate(state, batch, failed_period, max_periods)
     return state
 
 
-class _Solution:
-    """Per-lane results as they are accepted."""
-
-    def __init__(self, lanes: int, steps: int):
-        self.settled = np.zeros(lanes, dtype=bool)
-        self.period = np.zeros(lanes, dtype=np.int64)
-        self.y_start = np.full(lanes, np.nan)
-        self.v_start = np.full(lanes, np.nan)
-        self.multipliers = np.full((lanes, 2), np.nan, dtype=complex)
-        self.method = np.full(lanes, "none", dtype=object)
-        self.failed_period = np.full(lanes, -1, dtype=np.int64)
-        self.steps_used = np.full(lanes, steps, dtype=np.int64)
-        self.periods_run = np.zeros(lanes, dtype=np.int64)
-
-    def accept(self, lanes, y, v, p, multipliers, method):
-        self.settled[lanes] = True
-        self.period[lanes] = p
-        self.y_start[lanes], self.v_start[lanes] = y, v
-        if multipliers is not None:
-            self.multipliers[lanes] = multipliers
-        self.method[lanes] = method
-
-    def record(self, batch: "_Batch") -> None:
-        """Note the extremes of every settled orbit, and the cost."""
-        extremes = _record_orbits(batch, self)
-        self.ymin, self.ymax = extremes["ymin"], extremes["ymax"]
-        self.maxima, self.minima = extremes["maxima"], extremes["minima"]
-        self.periods_run += batch.periods_run
-
-    def merge(self, lanes: np.ndarray, finer: "_Solution") -> None:
-        """Take the finer pass's result for ``lanes``, unless it settled no better."""
-        take = finer.settled | ~self.settled[lanes]
-        self.periods_run[lanes] += finer.periods_run
-        for name in ("settled", "period", "y_start", "v_start", "multipliers", "method",
-                     "failed_period", "steps_used", "ymin", "ymax"):
-            getattr(self, name)[lanes[take]] = getattr(finer, name)[take]
-        for j in np.flatnonzero(take):
-            self.maxima[lanes[j]], self.minima[lanes[j]] = finer.maxima[j], finer.minima[j]
+def _accept(state: Orbits, lanes, y, v, p, multipliers, method) -> None:
+    state.status[lanes] = Status.SUCCESS
+    state.period[lanes] = p
+    state.y_start_m[lanes], state.v_start_m_s[lanes] = y, v
+    if multipliers is not None:
+        state.multipliers[lanes] = multipliers
+    state.method[lanes] = method
 
 
-def _record_orbits(batch: _Batch, state: _Solution) -> dict:
+def _fate(state: Orbits, batch: _Batch, failed_period, max_periods: int) -> None:
+    """Status and message of the lanes that did not settle."""
+    failed = failed_period >= 0
+    state.status[failed] = Status.FAILED
+    for lane, message in enumerate(batch.failure_messages(failed_period)):
+        if message:
+            state.message[lane] = message
+        elif not state.settled[lane]:
+            state.message[lane] = (f"not settled within {max_periods} periods (quasi-periodic, "
+                                   "chaotic, or a slow transient)")
+
+
+def _merge(state: Orbits, lanes: np.ndarray, finer: Orbits) -> None:
+    """Take the finer pass's result for ``lanes``, unless it settled no better."""
+    take = finer.settled | ~state.settled[lanes]
+    cost = state.periods_run[lanes] + finer.periods_run
+    state.put(lanes[take], finer.take(np.flatnonzero(take)))
+    state.periods_run[lanes] = cost
+
+
+def _record_orbits(batch: _Batch, state: Orbits, keep_orbits: bool) -> None:
     """Run one period of the response from each orbit start, noting every extremum.
 
     A p-periodic orbit is also 2p-, 4p-periodic; the stroboscopic samples of the
-    recorded period give the least period, which is what is reported.
+    recorded period give the least period, which is what is reported. The run
+    is kept as the orbit's history when ``keep_orbits`` (nothing simulates it again).
     """
-    lanes = state.settled.shape[0]
-    ymin, ymax = np.full(lanes, np.nan), np.full(lanes, np.nan)
-    maxima = [np.empty(0)] * lanes
-    minima = [np.empty(0)] * lanes
-    steps = (batch.drive.shape[0] - 1) // 2
+    if keep_orbits:
+        state.orbit_y_m = [np.empty(0)] * state.status.size
+    steps = batch.steps
     for p in np.unique(state.period[state.period > 0]):
         group = np.flatnonzero(state.period == p)
-        n, width = group.size, _EXTREMA_PER_PERIOD * int(p)
-        y, v = state.y_start[group].copy(), state.v_start[group].copy()
-        lo, hi = np.empty(n), np.empty(n)
-        value, phase = np.empty((n, width)), np.empty((n, width))
-        kind, count = np.empty((n, width), dtype=np.int8), np.zeros(n, dtype=np.int64)
-        history_y, history_v = np.empty((n, int(p) * steps)), np.empty((n, int(p) * steps))
-        batch.kernels.record_periods(
-            y, v, batch.dt[group], batch.p_a[group], batch.drive, int(p),
-            np.full(n, -1, dtype=np.int64), 0, lo, hi, value, phase, kind, count,
-            history_y, history_v, batch.limit[group],
-        )
+        width = _EXTREMA_PER_PERIOD * int(p)
+        y, v = state.y_start_m[group].copy(), state.v_start_m_s[group].copy()
+        rec = batch.record(y, v, int(p), np.full(group.size, -1, dtype=np.int64),
+                           extrema_width=width, history=True, lanes=group)
         batch.periods_run[group] += p
-        least = _least_period(batch, group, state, history_y[:, steps - 1 :: steps],
-                              history_v[:, steps - 1 :: steps], hi - lo)
+        least = _least_period(batch, group, state, rec.history_y[:, steps - 1 :: steps],
+                              rec.history_v[:, steps - 1 :: steps], rec.ymax - rec.ymin)
         state.period[group] = least
-        if (count > width).any():
-            raise RuntimeError(f"an orbit has {int(count.max())} local extrema in {p} "
+        if (rec.count > width).any():
+            raise RuntimeError(f"an orbit has {int(rec.count.max())} local extrema in {p} "
                                f"period(s), more than the {width} recorded")
         for j, lane in enumerate(group):
-            m = count[j]
-            within = phase[j, :m] < least[j]
-            values, kinds = value[j, :m][within], kind[j, :m][within]
-            maxima[lane], minima[lane] = values[kinds > 0], values[kinds < 0]
-            ends = history_y[j, : least[j] * steps]
-            ymin[lane] = min(values.min(initial=np.inf), ends.min(), state.y_start[lane])
-            ymax[lane] = max(values.max(initial=-np.inf), ends.max(), state.y_start[lane])
-    return {"ymin": ymin, "ymax": ymax, "maxima": maxima, "minima": minima}
+            rows = rec.extrema(j)
+            rows = rows[rows[:, 0] < least[j]]
+            values, kinds = rows[:, 1], rows[:, 2]
+            state.maxima_m[lane], state.minima_m[lane] = values[kinds > 0], values[kinds < 0]
+            ends = rec.history_y[j, : least[j] * steps]
+            state.ymin_m[lane] = min(values.min(initial=np.inf), ends.min(),
+                                     state.y_start_m[lane])
+            state.ymax_m[lane] = max(values.max(initial=-np.inf), ends.max(),
+                                     state.y_start_m[lane])
+            if keep_orbits:
+                state.orbit_y_m[lane] = ends.copy()
 
 
 def _least_period(batch, group, state, strobe_y, strobe_v, span):
@@ -484,7 +418,7 @@ def _least_period(batch, group, state, strobe_y, strobe_v, span):
     least = np.full(group.size, p, dtype=np.int64)
     scale = batch.scale(span)
     for d in reversed([d for d in PERIODS_TRIED if d < p and p % d == 0]):
-        gap = batch.distance(group, strobe_y[:, d - 1] - state.y_start[group],
-                             strobe_v[:, d - 1] - state.v_start[group], scale)
+        gap = batch.distance(group, strobe_y[:, d - 1] - state.y_start_m[group],
+                             strobe_v[:, d - 1] - state.v_start_m_s[group], scale)
         least[gap < batch.tol] = d
     return least

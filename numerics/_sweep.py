@@ -8,55 +8,42 @@ through their frequency lists together.
 from __future__ import annotations
 
 import time
-from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from perturb import ContactModel
+from common import Result, check_choice, check_int, lane_array, lookup, progress, result
+from perturb import ContactModel, eq26_numbers
 
-from ._info import model_info
-from common import progress
-from ._simulate import static_deflection
+from ._orbits import Orbits
+from ._simulate import check_model
 from ._steady import DEFAULTS, steady_states
-from ._validate import lane_array, positive_int
 
 __all__ = ["SweepRun", "Sweep", "sweep", "DIRECTIONS"]
 
 DIRECTIONS = ("up", "down", "both")
 
 
-@dataclass
-class SweepRun:
-    """One amplitude swept in one direction; lists are in the order swept."""
+@result
+class SweepRun(Orbits):
+    """One amplitude swept in one direction: the ``Orbits`` columns, in the order swept."""
 
     pa_frac: float
     direction: str
-    frequency_hz: list[float]
-    app_m: list[float]
-    ymin_m: list[float]
-    ymax_m: list[float]
-    maxima_m: list[list[float]]
-    minima_m: list[list[float]]
-    period: list[int]
-    settled: list[bool]
-    method: list[str] = field(default_factory=list)
-    y_start_m: list[float] = field(default_factory=list)  # the orbit's state at phase 0
-    v_start_m: list[float] = field(default_factory=list)
-    steps_used: list[int] = field(default_factory=list)  # RK4 steps per period of each point
-
-    @property
-    def contact_lost(self) -> np.ndarray:
-        return np.asarray(self.ymin_m) < 0
 
     def jumps(self, ratio: float = 1.3) -> list[int]:
         """Indices i where App jumps by more than ``ratio`` from point i-1 to i."""
-        app = np.asarray(self.app_m)
-        change = np.maximum(app[1:] / app[:-1], app[:-1] / app[1:])
+        app = self.app_m
+        with np.errstate(divide="ignore", invalid="ignore"):
+            change = np.maximum(app[1:] / app[:-1], app[:-1] / app[1:])
         return (np.flatnonzero(change > ratio) + 1).tolist()
 
+    def summary(self) -> str:
+        return (f"SweepRun: P_a = {self.pa_frac:g} Q {self.direction}, {self.status.size} "
+                f"points, {int((~self.settled).sum())} not settled")
 
-@dataclass
-class Sweep:
+
+@result
+class Sweep(Result):
     """All runs of a sweep, with the model and the settings that made them."""
 
     model: dict
@@ -64,34 +51,32 @@ class Sweep:
     runs: list[SweepRun]
     elapsed_s: float
 
-    def as_dict(self) -> dict:
-        return {"model": self.model, "settings": self.settings,
-                "runs": [_run_dict(r) for r in self.runs], "elapsed_s": self.elapsed_s}
-
     def run(self, pa_frac: float, direction: str) -> SweepRun:
-        for r in self.runs:
-            if np.isclose(r.pa_frac, pa_frac) and r.direction == direction:
-                return r
-        raise KeyError(f"no run with pa_frac={pa_frac}, direction={direction!r}")
+        """The run of one amplitude and direction (a KeyError lists the runs there are)."""
+        return lookup(f"run with pa_frac={pa_frac!r}, direction={direction!r}", self.runs,
+                      lambda r: np.isclose(r.pa_frac, pa_frac) and r.direction == direction,
+                      lambda r: (r.pa_frac, r.direction))
 
-    def __str__(self) -> str:
-        points = sum(len(r.frequency_hz) for r in self.runs)
-        unsettled = sum(not s for r in self.runs for s in r.settled)
+    def summary(self) -> str:
+        points = sum(r.status.size for r in self.runs)
+        unsettled = sum(int((~r.settled).sum()) for r in self.runs)
         return (f"Sweep: {len(self.runs)} runs, {points} points, {unsettled} not settled, "
                 f"{self.elapsed_s:.3g} s")
 
-
-def _run_dict(run: SweepRun) -> dict:
-    """The documented JSON keys of a run (method and orbit states stay in Python)."""
-    out = asdict(run)
-    for key in ("method", "y_start_m", "v_start_m", "steps_used"):
-        out.pop(key)
-    return out
+    def table(self) -> str:
+        lines = []
+        for run in self.runs:
+            jumps = [run.frequency_hz[i] for i in run.jumps()]
+            lines.append(f"  P_a = {run.pa_frac:.2f} Q {run.direction:>4}: max App "
+                         f"{np.nanmax(run.app_m, initial=0) * 1e9:9.1f} nm, jumps at "
+                         f"{[float(f) for f in jumps]} Hz, contact lost at "
+                         f"{int(run.contact_lost.sum())} points")
+        return "\n".join(lines)
 
 
 def sweep(
-    frequencies_hz,
-    pa_fracs,
+    frequency_hz,
+    pa_frac,
     *,
     direction: str = "both",
     model: ContactModel | None = None,
@@ -106,9 +91,9 @@ def sweep(
 
     Parameters
     ----------
-    frequencies_hz : array_like
-        The frequency grid [Hz], increasing; "down" runs take it in reverse.
-    pa_fracs : array_like
+    frequency_hz : array_like
+        The frequency grid f_e [Hz], increasing; "down" runs take it in reverse.
+    pa_frac : float or array_like
         Force amplitudes P_a as fractions of the weight Q.
     direction : {"up", "down", "both"}
     model : ContactModel, optional
@@ -119,71 +104,57 @@ def sweep(
 
     Examples
     --------
-    >>> result = sweep([1300.0, 1350.0, 1400.0], [0.05], direction="up")
+    >>> result = sweep([1300.0, 1350.0, 1400.0], 0.05, direction="up")
     >>> [round(a * 1e9, 1) for a in result.runs[0].app_m]
     [48.1, 65.0, 106.1]
     """
-    if direction not in DIRECTIONS:
-        raise ValueError(f"`direction` must be one of {DIRECTIONS}, got {direction!r}.")
-    model = ContactModel() if model is None else model
-    grid = lane_array("frequencies_hz", frequencies_hz, positive=True)
+    check_choice("direction", direction, DIRECTIONS)
+    model = check_model(model)
+    grid = lane_array("frequency_hz", frequency_hz, positive=True)
     if grid.size > 1 and np.any(np.diff(grid) <= 0):
-        raise ValueError("`frequencies_hz` must be strictly increasing.")
-    fracs = lane_array("pa_fracs", pa_fracs)
-    positive_int("steps_per_period", steps_per_period, minimum=4)
+        raise ValueError("`frequency_hz` must be strictly increasing.")
+    fracs = lane_array("pa_frac", pa_frac)
+    check_int("steps_per_period", steps_per_period, minimum=4)
     directions = ("up", "down") if direction == "both" else (direction,)
     lanes = [(frac, d) for frac in fracs for d in directions]
     order = {"up": grid, "down": grid[::-1]}
     freq = np.array([order[d] for _, d in lanes])  # (lanes, points)
-    p_a = np.array([frac for frac, _ in lanes]) * model.parameters.weight_n
+    p_a = np.array([frac for frac, _ in lanes]) * model.parameters.Q_n
 
     start = time.perf_counter()
-    columns = _sweep_lanes(freq, p_a, model, quiet, steps_per_period=steps_per_period, tol=tol,
-                           max_periods=max_periods, method=method, refinements=refinements)
+    points = _sweep_lanes(freq, p_a, model, quiet, steps_per_period=steps_per_period, tol=tol,
+                          max_periods=max_periods, method=method, refinements=refinements)
     runs = [
-        SweepRun(pa_frac=float(frac), direction=d, frequency_hz=freq[i].tolist(),
-                 **{key: [value[j][i] for j in range(grid.size)] for key, value in columns.items()})
+        SweepRun(pa_frac=float(frac), direction=d,
+                 **points.take(np.arange(i, points.status.size, len(lanes))).columns())
         for i, (frac, d) in enumerate(lanes)
     ]
-    settings = {"frequencies_hz": [float(grid[0]), float(grid[-1]), int(grid.size)],
-                "pa_fracs": fracs.tolist(), "direction": direction,
+    settings = {"frequency_hz": [float(grid[0]), float(grid[-1]), int(grid.size)],
+                "pa_frac": fracs.tolist(), "direction": direction,
                 "steps_per_period": steps_per_period, "tol": tol, "max_periods": max_periods,
-                "method": method, "refinements": refinements, "effects": model.effects.label(),
-                "parameters": model.parameters.as_dict()}
-    return Sweep(model=model_info(model),
-                 settings=settings, runs=runs, elapsed_s=time.perf_counter() - start)
+                "method": method, "refinements": refinements}
+    return Sweep(model=model.as_dict(), settings=settings, runs=runs,
+                 elapsed_s=time.perf_counter() - start)
 
 
-def _sweep_lanes(freq, p_a, model, quiet, **accuracy) -> dict:
-    """Walk every lane through its frequencies; return per-point columns."""
-    points = freq.shape[1]
-    columns = {k: [] for k in ("app_m", "ymin_m", "ymax_m", "maxima_m", "minima_m", "period",
-                               "settled", "method", "y_start_m", "v_start_m", "steps_used")}
+def _sweep_lanes(freq, p_a, model, quiet, **accuracy) -> Orbits:
+    """Walk every lane through its frequencies; the points, frequency by frequency."""
+    found = []
     y = v = span = None
     period = 1
-    rest = static_deflection(model)
-    bar = progress(points, "sweep", quiet=quiet)
-    for j in range(points):
-        found = steady_states(freq[:, j], p_a, model=model, y_init=y, v_init=v,
-                              period_guess=period, span_guess=span, **accuracy)
+    rest = eq26_numbers(model.parameters).y0_m
+    bar = progress(freq.shape[1], "sweep", quiet=quiet)
+    for j in range(freq.shape[1]):
+        point = steady_states(freq[:, j], p_a, model=model, y_init_m=y, v_init_m_s=v,
+                              period_guess=period, app_guess_m=span, **accuracy)
         # The next point starts from this point's orbit (or last state, if unsettled);
         # a lane whose state blew up (a reduced model with no floor) starts from rest.
-        blown = ~(np.isfinite(found.y_start) & np.isfinite(found.v_start))
-        y = np.where(blown, rest, found.y_start)
-        v = np.where(blown, 0.0, found.v_start)
-        span = np.where(found.settled & ~blown, found.app, 0.0)
-        period = np.maximum(found.period, 1)
-        columns["app_m"].append(found.app.tolist())
-        columns["ymin_m"].append(found.ymin.tolist())
-        columns["ymax_m"].append(found.ymax.tolist())
-        columns["maxima_m"].append([m.tolist() for m in found.maxima])
-        columns["minima_m"].append([m.tolist() for m in found.minima])
-        columns["period"].append(found.period.tolist())
-        columns["settled"].append(found.settled.tolist())
-        columns["method"].append(found.method.tolist())
-        columns["y_start_m"].append(found.y_start.tolist())
-        columns["v_start_m"].append(found.v_start.tolist())
-        columns["steps_used"].append(found.steps_used.tolist())
+        blown = ~(np.isfinite(point.y_start_m) & np.isfinite(point.v_start_m_s))
+        y = np.where(blown, rest, point.y_start_m)
+        v = np.where(blown, 0.0, point.v_start_m_s)
+        span = np.where(point.settled & ~blown, point.app_m, 0.0)
+        period = np.maximum(point.period, 1)
+        found.append(point)
         bar.update()
     bar.close()
-    return columns
+    return Orbits.stack(found)

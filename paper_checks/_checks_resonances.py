@@ -29,16 +29,16 @@ def linear_resonance(scene: PaperScene) -> Claim:
     """At a very small force the response is the linear transfer of Eq. 2.6."""
     found = scene.tiny_force
     # The linear response is the order-0 series of Eq. 2.6 (u0 = G H_1 cos, Eq. 2.8).
-    (branch,) = frequency_response(found.f_e_hz, TINY_FORCE_FRAC, order=0).branches
+    (branch,) = frequency_response(found.frequency_hz, TINY_FORCE_FRAC, order=0).branches
     linear = branch.app_m
-    deviation = np.abs(found.app / linear - 1)
-    peak = found.f_e_hz[np.argmax(found.app)]
+    deviation = np.abs(found.app_m / linear - 1)
+    peak = found.frequency_hz[np.argmax(found.app_m)]
     return Claim(
         "linear_resonance", "in the case of a very small amplitude of the excitation force the "
         "vibrations are linear and the resonance is linear (Section 3.1)",
         bool(deviation.max() < 0.01 and abs(peak / scene.info["f_n0_hz"] - 1) < 0.01),
         {"pa_frac": TINY_FORCE_FRAC, "max_relative_deviation_from_linear": float(deviation.max()),
-         "peak_hz": float(peak), "points": int(found.app.size)},
+         "peak_hz": float(peak), "points": int(found.app_m.size)},
     )
 
 

@@ -64,17 +64,17 @@ def _bouncing_to_band_end(scene: PaperScene) -> str:
 def _census_claim(scene: PaperScene, key: str, claim_id: str, statement: str,
                   expected: set[str]) -> Claim:
     census = scene.censuses[key]
-    labels = [a.label() for a in census.attractors]
-    extra = [a for a in census.attractors if a.label() not in expected]
+    labels = [a.label for a in census.attractors]
+    extra = [a for a in census.attractors if a.label not in expected]
     measured = {
-        "attractors": [{"label": a.label(), "period": a.period, "app_m": a.app_m,
+        "attractors": [{"label": a.label, "period": a.period, "app_m": a.app_m,
                         "ymin_m": a.ymin_m, "basin_fraction": a.basin_fraction,
                         "contact_lost": a.contact_lost} for a in census.attractors],
         "initial_states": census.settings["initial_states"],
         "not_settled_fraction": census.not_settled_fraction,
     }
     beyond = "; ".join(
-        f"also a {a.label()} orbit, App {a.app_m * 1e9:.0f} nm, basin {a.basin_fraction:.0%}"
+        f"also a {a.label} orbit, App {a.app_m * 1e9:.0f} nm, basin {a.basin_fraction:.0%}"
         + (", with loss of contact" if a.contact_lost else "") for a in extra)
     return Claim(claim_id, statement, expected <= set(labels), measured, beyond=beyond)
 

@@ -13,8 +13,14 @@ from functools import cached_property
 import numpy as np
 
 from numerics import attractors, compare, exact_backbone, steady_states, sweep
-from numerics._info import model_info
-from perturb import PAPER, PAPER_BAND_HZ, PAPER_COEXISTENCE, PAPER_PANEL_FRACTIONS, derive
+from perturb import (
+    PAPER,
+    PAPER_BAND_HZ,
+    PAPER_COEXISTENCE,
+    PAPER_PANEL_FRACTIONS,
+    derive,
+    eq26_numbers,
+)
 
 __all__ = ["PaperScene", "COEXISTENCE_POINTS"]
 
@@ -41,7 +47,7 @@ class PaperScene:
 
     @cached_property
     def info(self) -> dict:
-        return model_info()
+        return eq26_numbers().as_dict()
 
     @cached_property
     def grid_hz(self) -> np.ndarray:
@@ -72,7 +78,7 @@ class PaperScene:
         f = self.grid_hz[::4]
         return self._timed(
             "linear check (1e-3 Q)", f"{f.size} frequencies from rest",
-            lambda: steady_states(f, TINY_FORCE_FRAC * PAPER.weight_n),
+            lambda: steady_states(f, TINY_FORCE_FRAC * PAPER.Q_n),
         )
 
     @cached_property
@@ -88,7 +94,7 @@ class PaperScene:
         return self._timed(
             "analytic against numerical", f"orders {orders}, P_a = 0.05, 0.10, 0.15 Q, "
             f"{self.grid_hz.size} frequencies, up and down, both models",
-            lambda: compare(orders, COMPARED_FRACTIONS, frequencies_hz=self.grid_hz),
+            lambda: compare(orders, COMPARED_FRACTIONS, frequency_hz=self.grid_hz),
         )
 
     @cached_property

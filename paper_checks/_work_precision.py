@@ -68,15 +68,15 @@ def _best_of(function, repeats: int = 3) -> tuple[object, float]:
 
 def _rk4(quick: bool):
     f = np.array([p[1] for p in RK4_POINTS])
-    p_a = np.array([p[0] for p in RK4_POINTS]) * PAPER.weight_n
+    p_a = np.array([p[0] for p in RK4_POINTS]) * PAPER.Q_n
     ref = steady_states(f, p_a, steps_per_period=3200, tol=1e-9)
     method = Method("RK4", "steps per period")
     for n in RK4_STEPS[:-2] if quick else RK4_STEPS:
         found, seconds = _best_of(lambda n=n: steady_states(
-            f, p_a, y_init=ref.y_start, v_init=ref.v_start, span_guess=ref.app,
+            f, p_a, y_init_m=ref.y_start_m, v_init_m_s=ref.v_start_m_s, app_guess_m=ref.app_m,
             period_guess=ref.period, steps_per_period=n))
         method.settings.append(n)
-        method.errors.append(float(np.max(np.abs(found.app / ref.app - 1))))
+        method.errors.append(float(np.max(np.abs(found.app_m / ref.app_m - 1))))
         method.seconds.append(seconds)
     return method, ref
 
@@ -84,7 +84,7 @@ def _rk4(quick: bool):
 def _series(quick: bool) -> Method:
     f = np.array([p[1] for p in SERIES_POINTS])
     frac = SERIES_POINTS[0][0]
-    ref = steady_states(f, frac * PAPER.weight_n, model=ContactModel(effects=EQ_2_6),
+    ref = steady_states(f, frac * PAPER.Q_n, model=ContactModel(effects=EQ_2_6),
                         steps_per_period=1600, tol=1e-9)
     method = Method("series", "order N", extra={"derive_seconds": []})
     for order in SERIES_ORDERS[:5] if quick else SERIES_ORDERS:
@@ -93,7 +93,7 @@ def _series(quick: bool) -> Method:
         method.extra["derive_seconds"].append(time.perf_counter() - start)
         response, seconds = _best_of(lambda o=order: frequency_response(f, frac, o))
         method.settings.append(order)
-        method.errors.append(_series_error(response, ref.app))
+        method.errors.append(_series_error(response, ref.app_m))
         method.seconds.append(seconds)
     return method
 
@@ -113,12 +113,12 @@ def _dop853(ref, quick: bool) -> Method:
     method = Method("DOP853", f"rtol ({DOP853_PERIODS} periods from the orbit)")
     for rtol in DOP853_RTOL[:3] if quick else DOP853_RTOL:
         start = time.perf_counter()
-        apps = [np.ptp(reference_last_period(ContactModel(), f, frac * PAPER.weight_n, y, v,
+        apps = [np.ptp(reference_last_period(ContactModel(), f, frac * PAPER.Q_n, y, v,
                                              DOP853_PERIODS, rtol=rtol)[1])
-                for (frac, f), y, v in zip(RK4_POINTS, ref.y_start, ref.v_start)]
+                for (frac, f), y, v in zip(RK4_POINTS, ref.y_start_m, ref.v_start_m_s)]
         method.settings.append(rtol)
         method.seconds.append(time.perf_counter() - start)
-        method.errors.append(float(np.max(np.abs(np.array(apps) / ref.app - 1))))
+        method.errors.append(float(np.max(np.abs(np.array(apps) / ref.app_m - 1))))
     return method
 
 

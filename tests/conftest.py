@@ -3,17 +3,17 @@
 import numpy as np
 import pytest
 
-from perturb import PAPER, ContactModel, Eq26
+from perturb import PAPER, ContactModel, eq26_numbers
 
 
 @pytest.fixture(scope="session")
 def paper_figures():
-    return Eq26().numeric()
+    return eq26_numbers().as_dict()
 
 
 @pytest.fixture(scope="session")
 def weight():
-    return PAPER.weight_n
+    return PAPER.Q_n
 
 
 @pytest.fixture

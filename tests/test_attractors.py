@@ -9,7 +9,7 @@ from numerics import attractors
 
 def test_primary_and_half_superharmonic_coexist_at_740_hz():
     census = attractors(740.0, 0.15)
-    labels = [a.label() for a in census.attractors]
+    labels = [a.label for a in census.attractors]
     assert "primary" in labels and "1/2 superharmonic" in labels, census
     assert abs(sum(a.basin_fraction for a in census.attractors)
                + census.not_settled_fraction - 1) < 1e-12
@@ -17,7 +17,7 @@ def test_primary_and_half_superharmonic_coexist_at_740_hz():
 
 def test_three_resonances_coexist_at_490_hz():
     census = attractors(490.0, 0.5)
-    labels = {a.label() for a in census.attractors}
+    labels = {a.label for a in census.attractors}
     assert {"primary", "1/2 superharmonic", "1/3 superharmonic"} <= labels, census
     # Beyond the paper: a period-2 bouncing orbit with a small basin (see README).
     assert len(census.attractors) >= 3

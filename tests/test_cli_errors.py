@@ -2,7 +2,7 @@
 
 import pytest
 
-from numerics.__main__ import main
+from numerics.cli import main
 
 
 @pytest.mark.parametrize(

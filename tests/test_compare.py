@@ -5,8 +5,8 @@ import json
 import numpy as np
 import pytest
 
-from numerics import compare
-from numerics.__main__ import main
+from numerics import Orbits, Status, compare
+from numerics.cli import main
 from numerics._compare_backbone import compare_backbones
 from numerics._compare_response import SteadyCurve, compare_response, steady_curve
 
@@ -21,7 +21,7 @@ def backbones():
 def error_at(backbones, a1: float) -> np.ndarray:
     """Each order's relative error at the fundamental amplitude a1 (log-log interpolation)."""
     return np.exp([np.interp(np.log(a1), np.log(backbones.a1_m), np.log(np.maximum(e, 1e-300)))
-                   for e in backbones.error])
+                   for e in backbones.relative_error])
 
 
 @pytest.mark.parametrize("a1_over_y0", [0.2, 0.5, 0.8])
@@ -36,7 +36,7 @@ def test_series_backbone_converges_below_contact_loss(backbones, a1_over_y0):
 def test_series_backbone_diverges_past_contact_loss(backbones):
     # Bouncing: the series of Eq. 2.6 knows nothing of the flight, and higher
     # orders only go further wrong.
-    errors = backbones.error[:, -1]
+    errors = backbones.relative_error[:, -1]
     assert np.all(np.diff(errors) > 0) and errors[0] > 0.5, errors
 
 
@@ -45,14 +45,14 @@ def test_backbone_limits_bracket_contact_loss(backbones):
     assert backbones.limit_app_m[0] < loss  # order 2 fails before contact is lost
     assert np.all((backbones.limit_app_m > 0.9 * loss) & (backbones.limit_app_m < 1.5 * loss))
     # Within its limit each order is within 1 %, just past it it is not.
-    for n, limit, error in zip(ORDERS, backbones.limit_app_m, backbones.error):
+    for n, limit, error in zip(ORDERS, backbones.limit_app_m, backbones.relative_error):
         assert np.all(error[backbones.app_m < 0.99 * limit] <= 0.01), n
 
 
 @pytest.fixture(scope="module")
 def half_superharmonic():
     # The 1/2 superharmonic peak at 0.05 Q (f_e ~ f_n0 / 2, Eq. 3.1).
-    return compare((4, 6, 8), (0.05,), frequencies_hz=np.arange(700.0, 800.0, 5.0))
+    return compare((4, 6, 8), (0.05,), frequency_hz=np.arange(700.0, 800.0, 5.0))
 
 
 def test_series_response_converges_to_rk4_of_eq26(half_superharmonic):
@@ -71,7 +71,7 @@ def test_full_model_parts_by_its_damping_law_at_the_half_peak(half_superharmonic
 
 
 def test_where_the_full_model_parts_from_eq26():
-    result = compare((6,), (0.05, 0.10), frequencies_hz=np.arange(1300.0, 1500.0, 5.0))
+    result = compare((6,), (0.05, 0.10), frequency_hz=np.arange(1300.0, 1500.0, 5.0))
     gentle, strong = result.parting(0.05), result.parting(0.10)
     # 0.05 Q: no contact loss; near the primary peak the damping law alone parts them.
     assert gentle["differ_with_contact_loss"] == 0 and gentle["differ_in_contact"] > 0
@@ -87,7 +87,7 @@ def test_cli_compare_prints_writes_and_draws(tmp_path, capsys):
     assert code == 0
     payload = json.loads(path.read_text())
     assert payload["backbone"]["orders"] == [2, 4]
-    assert {(r["model"], r["order"]) for r in payload["responses"]} == {
+    assert {(r["model_name"], r["order"]) for r in payload["responses"]} == {
         (m, n) for m in ("eq26", "full") for n in (2, 4)}
     assert picture.read_bytes()[:4] == b"\x89PNG"
     out = capsys.readouterr()
@@ -107,9 +107,12 @@ def test_unmatched_states_count_in_the_largest_error():
     # order-4 series has one response (the lower branch, 99.1 nm): its fold lies
     # above 1395 Hz, while RK4 of Eq. 2.6 also holds the upper branch (327.0 nm).
     grid = np.array([1390.0, 1395.0])
-    curve = SteadyCurve(model="eq26", pa_frac=0.05, frequency_hz=np.array([1395.0, 1395.0]),
-                        app_m=np.array([99.12e-9, 327.02e-9]), ymin_m=np.full(2, 1e-7),
-                        direction=np.array(["up", "down"]), settled=np.ones(2, dtype=bool))
+    points = Orbits.empty(np.array([1395.0, 1395.0]), np.zeros(2), 128)
+    points.status[:] = Status.SUCCESS
+    points.ymin_m[:] = 1e-7
+    points.ymax_m[:] = 1e-7 + np.array([99.12e-9, 327.02e-9])
+    curve = SteadyCurve(model_name="eq26", pa_frac=0.05, direction=np.array(["up", "down"]),
+                        notes=[], **points.columns())
     result = compare_response(curve, 4, grid)
     assert result.unmatched.tolist() == [False, True]
     assert result.largest_error == pytest.approx(1 - 99.1 / 327.0, abs=2e-3)
@@ -126,7 +129,7 @@ def test_backbone_limits_stop_at_contact_loss(backbones):
     assert np.all(backbones.crossing_app_m[1:] > loss) and backbones.capped[1:].all()
     assert backbones.limit_app_m[0] == backbones.crossing_app_m[0] < loss
     beyond = backbones.app_m > loss
-    for n, error, signed in zip(ORDERS[1:], backbones.error[1:],
+    for n, error, signed in zip(ORDERS[1:], backbones.relative_error[1:],
                                 backbones.series_hz[1:] / backbones.exact_hz - 1):
         assert signed[beyond & (error > 0.003)].min() < 0 < signed[beyond].max(), n
 
@@ -148,20 +151,20 @@ def test_cli_compare_bad_input_is_an_argparse_error(flags, option, capsys):
 
 @pytest.mark.parametrize(
     "kwargs, name",
-    [({"pa_fracs": (0.05, np.nan)}, "`pa_fracs`"), ({"pa_fracs": (-0.1,)}, "`pa_fracs`"),
-     ({"pa_fracs": ()}, "`pa_fracs`"), ({"orders": (2, -1)}, "`orders`"),
+    [({"pa_frac": (0.05, np.nan)}, "`pa_frac`"), ({"pa_frac": (-0.1,)}, "`pa_frac`"),
+     ({"pa_frac": ()}, "`pa_frac`"), ({"orders": (2, -1)}, "`orders`"),
      ({"orders": (2.5,)}, "`orders`"), ({"orders": ()}, "`orders`"),
      ({"tolerance": 0.0}, "`tolerance`"), ({"tolerance": np.nan}, "`tolerance`")],
 )
 def test_compare_bad_input_is_named(kwargs, name):
     with pytest.raises(ValueError, match=name):
-        compare(**kwargs, frequencies_hz=np.array([700.0, 710.0]))
+        compare(**kwargs, frequency_hz=np.array([700.0, 710.0]))
 
 
 def test_compare_without_force_is_rest_everywhere():
     # Regression: P_a = 0 gave the series no response (0/0 in b_n) and 0/0 in the
     # relative errors; both routes give rest, so the errors are 0.
-    result = compare((2,), (0.0,), frequencies_hz=np.array([700.0, 710.0]))
+    result = compare((2,), (0.0,), frequency_hz=np.array([700.0, 710.0]))
     assert result.response("eq26", 0.0, 2).largest_error == 0.0
     assert result.parting(0.0)["differ"] == 0
 

@@ -76,7 +76,7 @@ def test_bad_physical_parameters_are_named(name, bad):
 
 @pytest.mark.parametrize("bad", [True, "1", None])
 def test_parameters_must_be_real_numbers(bad):
-    with pytest.raises(ValueError, match=f"`M` must be a real number, got {bad!r}"):
+    with pytest.raises(ValueError, match=f"`M` must be one real number, got {bad!r}"):
         ContactParameters(M=bad)
 
 

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from numerics import compiled_kernels, static_deflection
-from perturb import EQ_2_6, ContactModel, ContactParameters, Eq26
+from numerics import compiled_kernels
+from perturb import EQ_2_6, ContactModel, ContactParameters, eq26_numbers
 
 
 def eq_2_4_by_hand(p: ContactParameters, y, v, force):
@@ -18,10 +18,10 @@ def eq_2_4_by_hand(p: ContactParameters, y, v, force):
 
 
 def random_states(rng, model, n=1000):
-    y0 = static_deflection(model)
+    y0 = eq26_numbers(model.parameters).y0_m
     y = rng.uniform(-3 * y0, 4 * y0, n)
     v = rng.uniform(-1, 1, n) * 2 * np.pi * 1500 * y0 * 3
-    force = rng.uniform(-1, 1, n) * model.parameters.weight_n
+    force = rng.uniform(-1, 1, n) * model.parameters.Q_n
     return y, v, force
 
 
@@ -43,11 +43,11 @@ def test_generated_rhs_equals_hand_written_eq_2_4(parameters, rng):
 
 def test_generated_eq26_rhs_equals_hand_written_eq26(rng):
     model = ContactModel(effects=EQ_2_6)
-    k = Eq26().numeric_coefficients()
+    k = eq26_numbers()
     y, v, force = random_states(rng, model)
-    u = y - static_deflection(model)
-    terms = np.stack([-2 * k["c"] * v, -k["omega0_squared"] * u, -k["h"] * u**2,
-                      k["G_per_P_a"] * force])
+    u = y - eq26_numbers(model.parameters).y0_m
+    terms = np.stack([-2 * k.c_per_s * v, -k.omega0_rad_s**2 * u, -k.h_per_m_s2 * u**2,
+                      k.G_per_P_a * force])
     got = compiled_kernels(model).acceleration_batch(y, v, force)
     worst = np.max(np.abs(got - terms.sum(axis=0)) / np.abs(terms).sum(axis=0))
     assert worst < 1e-12, f"largest relative deviation {worst:.3g}"

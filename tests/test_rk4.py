@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from numerics import compiled_kernels, simulate, static_deflection
-from perturb import LINEAR, ContactModel, Eq26
+from numerics import compiled_kernels, simulate
+from perturb import LINEAR, ContactModel, eq26_numbers
 
 
 def convergence_slope(steps, errors):
@@ -23,7 +23,7 @@ def test_unrolled_step_is_the_tableau(rng):
     # One step of rk4_step against the generic Butcher form on the real RHS.
     model = ContactModel()
     k = compiled_kernels(model)
-    y, v, dt = static_deflection(model) * 1.3, 1e-3, 2e-5
+    y, v, dt = eq26_numbers(model.parameters).y0_m * 1.3, 1e-3, 2e-5
     forces = (0.1, 0.2, 0.2, 0.3)
     stages = []
     for row, force in zip(k.RK4_A, forces):
@@ -49,18 +49,18 @@ def damped_forced_exact(t, omega0, c, G, Omega, u0, v0):
 
 def test_rk4_is_fourth_order_on_the_linear_oscillator(weight):
     model = ContactModel(effects=LINEAR)
-    k = Eq26().numeric_coefficients()
+    k = eq26_numbers()
     f_e, periods, p_a = 700.0, 6, 0.3 * weight
-    y0 = static_deflection(model)
+    y0 = eq26_numbers(model.parameters).y0_m
     u0, v0 = 3e-8, 0.0
-    exact = damped_forced_exact(periods / f_e, np.sqrt(k["omega0_squared"]), k["c"],
-                                k["G_per_P_a"] * p_a, 2 * np.pi * f_e, u0, v0)
+    exact = damped_forced_exact(periods / f_e, k.omega0_rad_s, k.c_per_s,
+                                k.G_per_P_a * p_a, 2 * np.pi * f_e, u0, v0)
     steps = [32, 64, 128, 256, 512]
     errors = []
     for n in steps:
         run = simulate(f_e, p_a, periods=periods, steps_per_period=n, model=model,
-                       y_init=y0 + u0, v_init=v0, record=("final",))
-        errors.append(abs(run.y_final[0] - y0 - exact))
+                       y_init_m=y0 + u0, v_init_m_s=v0, record=("final",))
+        errors.append(abs(run.y_final_m[0] - y0 - exact))
     slope = convergence_slope(steps, errors)
     assert 3.7 <= slope <= 4.3, f"measured order {slope:.3f}; errors {errors}"
 
@@ -73,13 +73,13 @@ def test_self_convergence_through_loss_of_contact(weight):
     # lanes and all 20 period ends, which follows the envelope.
     steps = [100, 200, 400, 800]
     periods = 20
-    y_init = np.array([3.0, -3.0, 2.5, -2.0]) * static_deflection(ContactModel())
+    y_init = np.array([3.0, -3.0, 2.5, -2.0]) * eq26_numbers().y0_m
     ends = []
     for n in steps + [6400]:
-        run = simulate(490.0, 0.5 * weight, periods=periods, steps_per_period=n, y_init=y_init,
+        run = simulate(490.0, 0.5 * weight, periods=periods, steps_per_period=n, y_init_m=y_init,
                        record=("history", "minmax"), record_periods=periods)
-        ends.append(run.history_y[:, n - 1 :: n])
-    assert (run.ymin < 0).all(), "every reference lane must lose contact"
+        ends.append(run.history_y_m[:, n - 1 :: n])
+    assert (run.ymin_m < 0).all(), "every reference lane must lose contact"
     errors = [np.abs(e - ends[-1]).max() for e in ends[:-1]]
     slope = convergence_slope(steps, errors)
     assert slope >= 2.0, f"measured order {slope:.3f}; errors {errors}"

@@ -7,8 +7,8 @@ import sys
 import numpy as np
 import pytest
 
-from numerics import static_deflection, sweep
-from perturb import EQ_2_6, ContactModel
+from numerics import sweep
+from perturb import EQ_2_6, ContactModel, eq26_numbers
 
 
 def test_shooting_sweep_jumps_where_time_marching_jumps():
@@ -28,8 +28,8 @@ def test_up_and_down_differ_inside_the_bistable_band():
     result = sweep(np.linspace(1350.0, 1450.0, 21), [0.05])
     up, down = result.run(0.05, "up"), result.run(0.05, "down")
     assert up.jumps() and down.jumps()
-    at_1400_up = up.app_m[up.frequency_hz.index(1400.0)]
-    at_1400_down = down.app_m[down.frequency_hz.index(1400.0)]
+    at_1400_up = up.app_m[up.frequency_hz.tolist().index(1400.0)]
+    at_1400_down = down.app_m[down.frequency_hz.tolist().index(1400.0)]
     assert at_1400_down > 2 * at_1400_up
 
 
@@ -40,11 +40,13 @@ def test_sweep_json_has_the_documented_keys(tmp_path):
                     "--json", str(target), "--plot", str(tmp_path / "fig.png"), "--quiet"],
                    check=True, capture_output=True)
     data = json.loads(target.read_text())
-    assert set(data) == {"model", "settings", "runs", "elapsed_s"}
+    assert set(data) == {"kind", "model", "settings", "runs", "elapsed_s"}
     assert len(data["runs"]) == 4
     run = data["runs"][1]
-    assert set(run) == {"pa_frac", "direction", "frequency_hz", "app_m", "ymin_m", "ymax_m",
-                        "maxima_m", "minima_m", "period", "settled"}
+    landed = {"pa_frac", "direction", "frequency_hz", "app_m", "ymin_m", "ymax_m", "maxima_m",
+              "minima_m", "period", "settled"}
+    # Issue 9: the landed keys stay, and every point gains its status and message.
+    assert landed | {"status", "message"} <= set(run)
     assert run["direction"] == "down" and run["frequency_hz"] == [800, 775, 750, 725, 700]
     assert all(len(run[k]) == 5 for k in ("app_m", "maxima_m", "period", "settled"))
     assert (tmp_path / "fig.png").exists() and (tmp_path / "fig-extrema.png").exists()
@@ -55,7 +57,7 @@ def test_progress_goes_to_stderr_unless_quiet(tmp_path):
                "--fmin", "700", "--fmax", "800"]
     loud = subprocess.run(command, check=True, capture_output=True, text=True)
     quiet = subprocess.run(command + ["--quiet"], check=True, capture_output=True, text=True)
-    assert "sweep [" in loud.stderr and quiet.stderr == ""
+    assert "sweep:" in loud.stderr and quiet.stderr == ""
 
 
 def test_a_lane_that_blows_up_restarts_from_rest():
@@ -73,7 +75,7 @@ def test_a_lane_that_blows_up_restarts_from_rest():
     "args, kwargs, message",
     [(([1.0, 2.0], [0.1]), {"direction": "sideways"}, "`direction`"),
      (([2.0, 1.0], [0.1]), {}, "increasing"),
-     (([1.0, 2.0], [-0.1]), {}, "`pa_fracs`")],
+     (([1.0, 2.0], [-0.1]), {}, "`pa_frac`")],
 )
 def test_bad_input_is_named(args, kwargs, message):
     with pytest.raises(ValueError, match=message):
@@ -89,7 +91,7 @@ def test_the_bouncing_down_branch_is_an_attractor_for_an_independent_integrator(
     from perturb import PAPER as p
 
     run = sweep(np.arange(300.0, 1805.0, 5.0), [0.3], direction="down").runs[0]
-    assert run.ymin_m[-1] < 0 and run.app_m[-1] > 40 * static_deflection(ContactModel())
+    assert run.ymin_m[-1] < 0 and run.app_m[-1] > 40 * eq26_numbers().y0_m
     f, p_a, periods = 300.0, 0.3 * weight, 60
 
     def rhs(t, state):
@@ -97,7 +99,7 @@ def test_the_bouncing_down_branch_is_an_attractor_for_an_independent_integrator(
         contact = -p.S * p.c_n * y**p.m2 - p.S * p.h_n * y**p.l * v if y > 0 else 0.0
         return (v, (contact + p.M * p.g + p_a * np.cos(2 * np.pi * f * t)) / p.M)
 
-    solution = solve_ivp(rhs, (0.0, periods / f), (run.y_start_m[-1], run.v_start_m[-1]),
+    solution = solve_ivp(rhs, (0.0, periods / f), (run.y_start_m[-1], run.v_start_m_s[-1]),
                          method="DOP853", rtol=1e-11, atol=1e-18, dense_output=True,
                          max_step=1 / (400 * f))
     last = solution.sol(np.linspace((periods - 1) / f, periods / f, 20001))[0]

@@ -5,9 +5,8 @@ from __future__ import annotations
 import argparse
 
 from common import int_at_least, nonnegative_float, output_file
+
 from .._compare import compare
-from .._compare_table import format_comparison
-from common import write_json
 
 __all__ = ["add_compare_parser"]
 
@@ -33,10 +32,11 @@ def _compare(args: argparse.Namespace) -> int:
     # --orders and --pa-frac are checked by their argparse types (exit 2, naming
     # the option); compare() checks them again for callers from Python.
     result = compare(sorted(set(args.orders)), sorted(set(args.pa_frac)), quiet=args.quiet)
-    print(format_comparison(result))
-    write_json(args.json, result.as_json())
+    print(result)
+    if args.json:
+        result.to_json(args.json)
     if args.plot:
-        from .plots import plot_comparison  # matplotlib only when a plot is asked for
+        from ..plots import plot_comparison  # matplotlib only when a plot is asked for
 
         plot_comparison(result, args.plot)
     return 0

@@ -3,15 +3,13 @@
 from __future__ import annotations
 
 import argparse
-import sys
 
 import numpy as np
 
+from common import int_at_least, nonnegative_float, note, output_file, positive_float
 from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS
 
 from .._attractors import attractors
-from common import int_at_least, nonnegative_float, output_file, positive_float
-from common import write_json
 from .._steady import DEFAULTS
 from .._sweep import DIRECTIONS, sweep
 
@@ -50,14 +48,10 @@ def _sweep(args: argparse.Namespace) -> int:
                    direction=args.direction, steps_per_period=args.steps, tol=args.tol,
                    quiet=args.quiet)
     print(result)
-    for run in result.runs:
-        lost = int(run.contact_lost.sum())
-        print(f"  P_a = {run.pa_frac:.2f} Q {run.direction:>4}: max App "
-              f"{max(run.app_m) * 1e9:9.1f} nm, jumps at "
-              f"{[run.frequency_hz[i] for i in run.jumps()]} Hz, contact lost at {lost} points")
-    write_json(args.json, result.as_dict())
+    if args.json:
+        result.to_json(args.json)
     if args.plot:
-        from .plots import plot_app, plot_extrema
+        from ..plots import plot_app, plot_extrema
 
         plot_app(result, args.plot)
         stem = args.plot[:-4] if args.plot.endswith(".png") else args.plot
@@ -74,9 +68,9 @@ def add_attractors_parser(sub) -> None:
 
 
 def _attractors(args: argparse.Namespace) -> int:
-    if not args.quiet:
-        print(f"attractors at {args.fe} Hz, {args.pa_frac} Q ...", file=sys.stderr)
+    note(f"attractors at {args.fe} Hz, {args.pa_frac} Q ...", quiet=args.quiet)
     census = attractors(args.fe, args.pa_frac, steps_per_period=args.steps, tol=args.tol)
     print(census)
-    write_json(args.json, census.as_dict())
+    if args.json:
+        census.to_json(args.json)
     return 0

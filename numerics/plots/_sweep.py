@@ -47,7 +47,7 @@ def plot_app(sweep, path=None) -> Figure:
             lost = run.contact_lost
             ax.semilogy(f[lost], app[lost] * 1e9, ".", color=style["color"], ms=2)
         f_all = np.concatenate([r.frequency_hz for r in sweep.runs])
-        _resonance_marks(ax, sweep.model["f_n0_hz"], f_all.min(), f_all.max())
+        _resonance_marks(ax, _f_n0_hz(sweep.model), f_all.min(), f_all.max())
         ax.set_title(f"({_PANELS[i % 10]}) P_a = {frac:.2f} Q", fontsize=9, loc="left")
         ax.set_ylabel("A_pp [nm]")
         ax.grid(True, which="major", alpha=0.3)
@@ -74,3 +74,10 @@ def plot_extrema(sweep, path=None) -> Figure:
     for ax in axes[-2:]:
         ax.set_xlabel("f_e [Hz]")
     return finish(figure, path)
+
+
+def _f_n0_hz(model: dict) -> float:
+    """f_n0 of the model a result carries (Eq. 2.6)."""
+    from perturb import ContactModel, eq26_numbers
+
+    return eq26_numbers(ContactModel.from_dict(model).parameters).f_n0_hz

@@ -14,8 +14,8 @@ import tempfile
 
 import numpy as np
 
-from numerics import compiled_kernels, drive_table, static_deflection
-from perturb import PAPER, ContactModel
+from numerics import compiled_kernels, drive_table
+from perturb import PAPER, ContactModel, eq26_numbers
 
 from ._textbook import PARAMETERS, textbook_rk4
 from ._timing import header, median_time, row
@@ -25,8 +25,8 @@ LANES, STEPS, PERIODS = 1000, 128, 40
 
 def _lanes(model):
     f_e = np.linspace(250.0, 1800.0, LANES)
-    p_a = np.full(LANES, 0.5 * PAPER.weight_n)  # strong drive: most lanes lose contact
-    y = np.full(LANES, static_deflection(model))
+    p_a = np.full(LANES, 0.5 * PAPER.Q_n)  # strong drive: most lanes lose contact
+    y = np.full(LANES, eq26_numbers(model.parameters).y0_m)
     return f_e, p_a, y, np.zeros(LANES)
 
 

@@ -149,9 +149,9 @@ def _accuracy(frequencies_hz) -> float:
             u = formulas.waveform(np.array([t1, t1 + 1e-6]), a0, w, W, values.c, values.h)
             starts.append((f, values.y0_m + u[0], W * (u[1] - u[0]) / 1e-6))
     f, y, v = map(np.array, zip(*starts))
-    rk4 = simulate(f, 0.05 * values.Q_n, periods=800, steps_per_period=256, y_init=y, v_init=v,
+    rk4 = simulate(f, 0.05 * values.Q_n, periods=800, steps_per_period=256, y_init_m=y, v_init_m_s=v,
                    model=ContactModel(effects=EQ_2_6), record=("final", "minmax"))
-    target = rk4.ymax - rk4.ymin
+    target = rk4.ymax_m - rk4.ymin_m
     errors = [
         np.min(np.abs(app / target[f == fi] - 1))
         for b in response.branches[::2]

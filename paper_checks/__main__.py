@@ -11,6 +11,7 @@ import argparse  # noqa: E402
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
+from common import output_dir  # noqa: E402
 from numerics._codegen import cache_dir  # noqa: E402
 
 from ._report import write_report  # noqa: E402
@@ -23,14 +24,11 @@ def _kernel_files() -> set[str]:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m paper_checks", description=__doc__)
     parser.add_argument("--quick", action="store_true", help="coarser grids (for tests)")
-    parser.add_argument("--out", default="out", help="output folder (default: out)")
+    parser.add_argument("--out", default="out", type=output_dir,
+                        help="output folder, created if its parent exists (default: out)")
     parser.add_argument("--quiet", action="store_true", help="print nothing but failures")
     args = parser.parse_args(argv)
-    out = Path(args.out)
-    try:  # before any work, so that no result is lost at the end
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        parser.error(f"argument --out: cannot use {args.out!r} as a folder ({error.strerror})")
+    out = Path(args.out)  # checked (and created) by its type, before any work
     cached = _kernel_files()
     report = write_report(out, quick=args.quick, started=_START,
                           kernels_cached_before=len(cached), kernel_files=_kernel_files)

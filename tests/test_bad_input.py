@@ -1,0 +1,39 @@
+"""Bad input is a ValueError (a KeyError for a lookup) that names the argument and its
+value, never a bare ZeroDivisionError, IndexError or StopIteration (issue 9, item 4)."""
+
+import numpy as np
+import pytest
+
+from numerics import attractors, compare, hysteresis_loop, simulate, steady_states, sweep
+from perturb import frequency_response
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda: steady_states(1000.0, 0.1, period_guess=0), "`period_guess`"),
+        (lambda: steady_states(1000.0, 0.1, period_guess=3), "`period_guess`"),
+        (lambda: steady_states(1000.0, 0.1, method="euler"), "`method`"),
+        (lambda: steady_states([1000.0, 900.0], [0.1, 0.2, 0.3]), "broadcast"),
+        (lambda: attractors(740.0, 0.15, grid={"y_over_y0": [1.0]}), "`grid`"),
+        (lambda: attractors(740.0, [0.1, 0.2]), "`pa_frac` must be one real number"),
+        (lambda: attractors([740.0, 750.0], 0.1), "`frequency_hz` must be one real number"),
+        (lambda: sweep([1000.0, 900.0], 0.1), "`frequency_hz` must be strictly increasing"),
+        (lambda: sweep([1000.0], 0.1, direction="sideways"), "`direction`"),
+        (lambda: simulate(1000.0, 0.1, periods=0), "`periods`"),
+        (lambda: simulate(1000.0, 0.1, periods=2, record="spectrum"), "`record`"),
+        (lambda: frequency_response([800.0], 0.05, omega_range=(0.6,)), "`omega_range`"),
+        (lambda: frequency_response([800.0], [0.05, 0.1]), "`pa_frac`"),
+        (lambda: hysteresis_loop(1600.0, [0.4]), "`pa_frac`"),
+        (lambda: compare((2, -1), 0.05), "`orders`"),
+    ],
+)
+def test_bad_input_is_a_value_error_that_names_the_argument(call, message):
+    with pytest.raises(ValueError, match=message):
+        call()
+
+
+def test_a_lookup_of_what_is_not_there_lists_what_is():
+    result = sweep(np.array([1000.0, 1010.0]), 0.05, direction="up")
+    with pytest.raises(KeyError, match=r"available: \[\(0\.05, 'up'\)\]"):
+        result.run(0.05, "down")

@@ -1,0 +1,112 @@
+"""Every public result class keeps the contract of ``common.Result`` (issue 9, item 2).
+
+For a small instance of each top-level result: it carries its model (parameters and
+effects, as data) and its settings; its repr is one short line; ``as_dict()`` is
+strict JSON; and ``load`` reads the file that ``to_json`` wrote back into an object
+that writes the very same JSON. The nested results are walked through their parents,
+and every class registered by ``@result`` must be reached.
+"""
+
+import json
+from dataclasses import fields
+
+import numpy as np
+import pytest
+
+from common import GLOSSARY, RESULT_CLASSES, Result, glossary_table, load
+from numerics import (
+    attractors,
+    compare,
+    exact_backbone,
+    hysteresis_loop,
+    natural_frequency_vs_height,
+    simulate,
+    steady_states,
+    sweep,
+)
+from perturb import PAPER, backbone_series, frequency_response
+
+FACTORIES = {
+    "Simulation": lambda: simulate([900.0, 1400.0], 0.1 * PAPER.Q_n, periods=20,
+                                   record=("final", "extrema", "history")),
+    "SteadyStates": lambda: steady_states([700.0, 1400.0], 0.05 * PAPER.Q_n),
+    "Sweep": lambda: sweep([1300.0, 1400.0], 0.05),
+    "Census": lambda: attractors(740.0, 0.15),
+    "Backbone": lambda: exact_backbone(points=5),
+    "HysteresisLoop": lambda: hysteresis_loop(1600.0, 0.4, periods=20, steps_per_period=64),
+    "HeightSweep": lambda: natural_frequency_vs_height(),
+    "Comparison": lambda: compare((2,), 0.05, frequency_hz=np.array([700.0, 1400.0])),
+    "Response": lambda: frequency_response([800.0, 1420.0], 0.05, order=2),
+    "BackboneSeries": lambda: backbone_series(4),
+}
+
+
+@pytest.fixture(scope="module")
+def instances():
+    return {name: make() for name, make in FACTORIES.items()}
+
+
+def _nested(value):
+    """Every result object inside ``value`` (itself included)."""
+    if isinstance(value, Result):
+        yield value
+        for f in fields(value):
+            yield from _nested(getattr(value, f.name))
+    elif isinstance(value, (list, tuple)):
+        for item in value:
+            yield from _nested(item)
+
+
+@pytest.mark.parametrize("name", sorted(FACTORIES))
+def test_a_result_carries_its_model_and_settings(name, instances):
+    result = instances[name]
+    assert type(result).__name__ == name
+    assert set(result.model) >= {"parameters", "effects"}, result.model
+    assert result.model["parameters"]["c_n"] == PAPER.c_n
+    assert isinstance(result.settings, dict) and result.settings
+
+
+@pytest.mark.parametrize("name", sorted(FACTORIES))
+def test_every_result_inside_prints_one_short_line(name, instances):
+    for part in _nested(instances[name]):
+        line = repr(part)
+        assert "\n" not in line and len(line) < 200 and "array(" not in line, line
+        assert str(part).splitlines()[0] == part.summary()
+
+
+@pytest.mark.parametrize("name", sorted(FACTORIES))
+def test_json_is_strict_and_reads_back(name, instances, tmp_path):
+    result = instances[name]
+    text = json.dumps(result.as_dict(), allow_nan=False)  # raises on NaN or infinity
+    path = tmp_path / f"{name}.json"
+    result.to_json(path)
+    back = load(path)
+    assert type(back) is type(result)
+    assert json.dumps(back.as_dict(), allow_nan=False) == text
+
+
+def test_every_result_class_is_walked(instances):
+    reached = {type(part).__name__ for result in instances.values() for part in _nested(result)}
+    assert set(RESULT_CLASSES) <= reached, set(RESULT_CLASSES) - reached
+
+
+def test_load_refuses_what_is_not_a_result(tmp_path):
+    path = tmp_path / "x.json"
+    path.write_text('{"kind": "Nothing"}')
+    with pytest.raises(ValueError, match="not a result of this toolkit"):
+        load(path)
+    path.write_text("not json")
+    with pytest.raises(ValueError, match="is not JSON"):
+        load(path)
+
+
+def test_every_field_of_every_result_is_in_the_glossary():
+    names = {f.name for cls in RESULT_CLASSES.values() for f in fields(cls)}
+    assert names <= set(GLOSSARY), sorted(names - set(GLOSSARY))
+
+
+def test_the_readme_shows_the_glossary():
+    from pathlib import Path
+
+    readme = (Path(__file__).parents[1] / "README.md").read_text(encoding="utf-8")
+    assert glossary_table() in readme

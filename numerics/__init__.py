@@ -16,11 +16,10 @@ from ._lanes import drive_table
 from ._natural_frequency import HeightSweep, natural_frequency_vs_height
 from ._orbits import Orbits
 from ._reference import reference_last_period
-from ._simulate import simulate
+from ._simulate import RECORDABLE, simulate
 from ._simulation import Simulation
 from ._steady import SteadyStates, steady_states
 from ._sweep import Sweep, SweepRun, sweep
-from ._validate import RECORDABLE
 
 __all__ = [
     "Attractor",

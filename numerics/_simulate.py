@@ -6,14 +6,21 @@ import time
 
 import numpy as np
 
-from common import Status, check_int, finite_array, lane_array
+from common import Status, check_choice, check_int, finite_array, lane_array
 from perturb import ContactModel, eq26_numbers
 
 from ._lanes import Lanes
 from ._simulation import Simulation
-from ._validate import check_record
 
-__all__ = ["simulate", "check_model", "initial_lanes"]
+__all__ = ["simulate", "check_model", "initial_lanes", "RECORDABLE"]
+
+#: The observables a run can record, and what each one stores.
+RECORDABLE = {
+    "final": "state (y, v) at the end of the run",
+    "minmax": "min and max of y over the recorded periods",
+    "extrema": "every local extremum of y over the recorded periods",
+    "history": "y and v after every step of the recorded periods",
+}
 
 
 def check_model(model) -> ContactModel:
@@ -103,7 +110,9 @@ def simulate(
     record_periods = check_int("record_periods", record_periods)
     if record_periods > periods:
         raise ValueError(f"`record_periods` must be <= periods={periods}, got {record_periods}.")
-    names = check_record(record)
+    names = (record,) if isinstance(record, str) else tuple(record)
+    for name in names:
+        check_choice("record", name, sorted(RECORDABLE))
     max_extrema = check_int("max_extrema", max_extrema)
     f_e, p_a, y, v = initial_lanes(frequency_hz, p_a_n, y_init_m, v_init_m_s, model)
 

@@ -2,7 +2,8 @@
 
 The physical model of Eq. 2.1-2.4 lives here once (``ContactModel``), with the
 paper's parameter values as defaults (``PAPER``); Eq. 2.6 is derived from it
-(``Eq26``). The perturbation series of Eq. 2.6 is derived to any order
+(``Eq26``), and its numbers at a parameter set are one object
+(``Eq26Numbers``, from ``eq26_numbers``). The perturbation series of Eq. 2.6 is derived to any order
 (``derive``), printed (``text_report``, ``latex_report``, ``series_json``),
 compiled (``compile_series``) and solved for the frequency response
 (``frequency_response``); ``backbone_series`` gives the free backbone exactly.
@@ -13,7 +14,7 @@ from . import _symbols as symbols
 from ._backbone_series import BackboneSeries, backbone_series
 from ._compiled import CompiledSeries, compile_series
 from ._effects import EQ_2_6, FULL, LINEAR, Effects
-from ._eq26 import Eq26
+from ._eq26 import Eq26, Eq26Numbers, eq26_numbers
 from ._lindstedt import Series, derive
 from ._model import ContactModel
 from ._paper_names import PAPER_DIFFERENCES, PAPER_NAMES, paper_names
@@ -39,6 +40,7 @@ __all__ = [
     "EQ_2_6",
     "Effects",
     "Eq26",
+    "Eq26Numbers",
     "FULL",
     "LINEAR",
     "PAPER",
@@ -55,6 +57,7 @@ __all__ = [
     "backbone_series",
     "compile_series",
     "derive",
+    "eq26_numbers",
     "frequency_response",
     "latex_report",
     "paper_names",

@@ -19,7 +19,7 @@ faster than general symbolic simplification. Finally
 Examples
 --------
 >>> series = backbone_series(4)
->>> [str(q) for q in series.coefficients]
+>>> series.as_strings()
 ['1', '0', '-5/12', '0', '-485/1728']
 >>> round(series.frequency_ratio(0.1), 6)
 0.995805
@@ -27,12 +27,16 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import time
 from fractions import Fraction
 from functools import lru_cache
 
 import numpy as np
 
+from common import Result, result
+
+from ._effects import EQ_2_6
+from ._model import ContactModel
 from ._series_symbols import check_order
 
 __all__ = ["BackboneSeries", "backbone_series"]
@@ -88,22 +92,48 @@ def _lindstedt_poincare(order: int) -> tuple[list[Fraction], list[Cosines]]:
     return w, x[1:]
 
 
-@dataclass(frozen=True)
-class BackboneSeries:
+def _fractions(name: str, value) -> tuple[Fraction, ...]:
+    try:
+        return tuple(Fraction(q) for q in value)
+    except (TypeError, ValueError, ZeroDivisionError):
+        raise ValueError(f"`{name}` must be exact rationals such as '-5/12', "
+                         f"got {value!r}.") from None
+
+
+@result
+class BackboneSeries(Result):
     """omega / omega0 = sum_k coefficients[k] alpha^k, alpha = h a / omega0^2.
+
+    The series is dimensionless: it holds for every parameter set, through
+    omega0 and h. ``model`` records the paper's Eq. 2.6 model, whose omega0 and
+    h turn alpha into an amplitude and omega / omega0 into a frequency.
 
     Attributes
     ----------
     order : int
+        Highest power of alpha kept.
+    amplitude : str
+        What ``a`` is: ``"first-harmonic"``, the amplitude of the fundamental.
     coefficients : tuple of Fraction
-        Exact coefficients of alpha^0 .. alpha^order.
+        Exact coefficients of alpha^0 .. alpha^order (JSON: strings, ``"-5/12"``).
     waveform : tuple of tuple of Fraction
-        Cosine coefficients of x_1 .. x_(order+1), ``x = h u / omega0^2``.
+        Cosine coefficients of x_1 .. x_(order+1), ``x = h u / omega0^2``
+        (JSON: strings).
+    model : dict
+        ``ContactModel(PAPER, EQ_2_6).as_dict()``.
+    settings : dict
+        Empty: the order is the one setting.
+    elapsed_s : float
+        Wall time of this call [s] (a repeated order is served from a cache).
     """
 
     order: int
+    amplitude: str
     coefficients: tuple[Fraction, ...]
     waveform: tuple[tuple[Fraction, ...], ...]
+    model: dict
+    settings: dict
+    elapsed_s: float
 
     def frequency_ratio(self, alpha: float | np.ndarray) -> float | np.ndarray:
         """omega / omega0 at ``alpha`` (Horner's rule on the truncated series)."""
@@ -114,14 +144,44 @@ class BackboneSeries:
         return float(total) if total.ndim == 0 else total
 
     def as_strings(self) -> list[str]:
+        """The coefficients as strings, ``["1", "0", "-5/12", ...]``."""
         return [str(q) for q in self.coefficients]
 
-    def __repr__(self) -> str:
-        shown = " ".join(f"{q}" for q in self.coefficients[:5])
-        return f"BackboneSeries(order={self.order}, omega/omega0 coefficients: {shown} ...)"
+    def summary(self) -> str:
+        shown = ", ".join(self.as_strings()[:5])
+        more = ", ..." if len(self.coefficients) > 5 else ""
+        return (f"BackboneSeries: omega/omega0 = sum_k c_k alpha^k to order {self.order}, "
+                f"alpha = h a / omega0^2 (a: {self.amplitude} amplitude): {shown}{more}; "
+                f"{self.elapsed_s:.3f} s")
+
+    def table(self) -> str:
+        return "\n".join(f"  c_{k} = {q}" for k, q in enumerate(self.coefficients))
+
+    def as_dict(self) -> dict:
+        data = super().as_dict()
+        data["coefficients"] = self.as_strings()
+        data["waveform"] = [[str(q) for q in x] for x in self.waveform]
+        return data
+
+    @classmethod
+    def from_dict(cls, data: dict) -> BackboneSeries:
+        series = super().from_dict(data)
+        series.coefficients = _fractions("coefficients", series.coefficients)
+        try:
+            series.waveform = tuple(_fractions("waveform", x) for x in series.waveform)
+        except TypeError:
+            raise ValueError(f"`waveform` must be lists of rationals, got "
+                             f"{series.waveform!r}.") from None
+        return series
 
 
 @lru_cache(maxsize=None)
+def _exact_series(order: int) -> tuple[tuple[Fraction, ...], tuple[tuple[Fraction, ...], ...]]:
+    """(coefficients, waveform) of the backbone to alpha^order, computed once per order."""
+    w, x = _lindstedt_poincare(order)
+    return tuple(_series_sqrt(w, order)), tuple(tuple(xi) for xi in x)
+
+
 def backbone_series(order: int) -> BackboneSeries:
     """The free undamped backbone of Eq. 2.6 to alpha^order, exactly.
 
@@ -133,6 +193,7 @@ def backbone_series(order: int) -> BackboneSeries:
     Returns
     -------
     BackboneSeries
+        A new object per call; the exact series of an order is computed once.
 
     Examples
     --------
@@ -143,7 +204,15 @@ def backbone_series(order: int) -> BackboneSeries:
     ...
     ValueError: `order` must be an integer >= 0, got -2.
     """
+    start = time.perf_counter()
     order = check_order(order)
-    w, x = _lindstedt_poincare(order)
-    ratio = _series_sqrt(w, order)
-    return BackboneSeries(order, tuple(ratio), tuple(tuple(xi) for xi in x))
+    coefficients, waveform = _exact_series(order)
+    return BackboneSeries(
+        order=order,
+        amplitude="first-harmonic",
+        coefficients=coefficients,
+        waveform=waveform,
+        model=ContactModel(effects=EQ_2_6).as_dict(),
+        settings={},
+        elapsed_s=time.perf_counter() - start,
+    )

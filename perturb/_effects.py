@@ -6,7 +6,9 @@ names the effects it needs and the simulator builds only those.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
+
+from common import check_choice, check_int
 
 __all__ = ["Effects", "FULL", "EQ_2_6", "LINEAR"]
 
@@ -52,19 +54,16 @@ class Effects:
     gravity: bool = True
 
     def __post_init__(self) -> None:
-        if self.spring not in SPRING_LAWS:
-            raise ValueError(f"`spring` must be one of {SPRING_LAWS}, got {self.spring!r}.")
-        if self.damping not in DAMPING_LAWS:
-            raise ValueError(
-                f"`damping` must be one of {DAMPING_LAWS}, got {self.damping!r}."
-            )
-        if int(self.taylor_degree) != self.taylor_degree or self.taylor_degree < 1:
-            raise ValueError(
-                f"`taylor_degree` must be an integer >= 1, got {self.taylor_degree!r}."
-            )
+        check_choice("spring", self.spring, SPRING_LAWS)
+        check_choice("damping", self.damping, DAMPING_LAWS)
+        object.__setattr__(self, "taylor_degree", check_int("taylor_degree", self.taylor_degree))
         for name in ("contact_loss", "gravity"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"`{name}` must be True or False, got {getattr(self, name)!r}.")
+
+    @classmethod
+    def names(cls) -> tuple[str, ...]:
+        return tuple(f.name for f in fields(cls))
 
     def label(self) -> str:
         spring = f"taylor-{self.taylor_degree}" if self.spring == "taylor" else self.spring

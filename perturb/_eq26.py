@@ -6,20 +6,23 @@ linearised there (Eq. 2.5). Divided by M, Eq. 2.4 becomes
 
     u'' + 2c u' + omega0^2 u + eps*h u^2 = G cos(2 pi f_e t)       (Eq. 2.6)
 
-Each coefficient below is a derivative of a force of ``ContactModel``.
+Each coefficient below is a derivative of a force of ``ContactModel``; their
+values at a parameter set are one object, ``Eq26Numbers`` (``eq26_numbers``).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import asdict, dataclass
 from functools import cache, cached_property, lru_cache
 
 import sympy as sp
 
 from ._model import ContactModel
+from ._parameters import PAPER, ContactParameters
 from ._symbols import M, P_a, f_e, g, t, v, y
 
-__all__ = ["Eq26"]
+__all__ = ["Eq26", "Eq26Numbers", "eq26_numbers"]
 
 
 # The symbolic laws do not depend on the parameter values: each derivation below
@@ -44,9 +47,76 @@ def _two_c() -> sp.Expr:
     return sp.simplify(-sp.diff(damping, v).subs(y, model.static_deflection) / M)
 
 
+@dataclass(frozen=True)
+class Eq26Numbers:
+    """The numbers of Eq. 2.6 at one parameter set, in SI units (names: the glossary).
+
+    Attributes
+    ----------
+    y0_m : float
+        Static deflection y0, where the spring carries the weight [m].
+    f_n0_hz : float
+        Natural frequency of the linearised system, omega0 / (2 pi) [Hz].
+    omega0_rad_s : float
+        omega0 [rad/s].
+    Q_n : float
+        Weight Q = M g [N].
+    c_per_s : float
+        c, half the linear damping coefficient over M [1/s].
+    h_per_m_s2 : float
+        eps h, the quadratic stiffness over M [1/(m s^2)].
+    damping_ratio : float
+        c / omega0.
+    G_per_P_a : float
+        G / P_a = 1 / M [1/kg].
+    """
+
+    y0_m: float
+    f_n0_hz: float
+    omega0_rad_s: float
+    Q_n: float
+    c_per_s: float
+    h_per_m_s2: float
+    damping_ratio: float
+    G_per_P_a: float
+
+    def as_dict(self) -> dict[str, float]:
+        """The eight numbers by name, in the order of the fields."""
+        return asdict(self)
+
+
+def eq26_numbers(parameters: ContactParameters = PAPER) -> Eq26Numbers:
+    """The numbers of Eq. 2.6 at ``parameters``, evaluated once per parameter set.
+
+    Examples
+    --------
+    >>> numbers = eq26_numbers()
+    >>> round(numbers.f_n0_hz, 2), round(numbers.y0_m * 1e9, 1)
+    (1485.59, 225.2)
+    >>> list(numbers.as_dict())[:3]
+    ['y0_m', 'f_n0_hz', 'omega0_rad_s']
+    """
+    if not isinstance(parameters, ContactParameters):
+        raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
+    return _numbers(parameters)
+
+
 @lru_cache(maxsize=128)
-def _numeric_figures(parameters) -> tuple:
-    return tuple(Eq26(ContactModel(parameters))._numeric().items())
+def _numbers(parameters: ContactParameters) -> Eq26Numbers:
+    eq = Eq26(ContactModel(parameters))
+    value = eq.model.numeric
+    omega0 = math.sqrt(value(eq.omega0_squared))
+    c = value(eq.c)
+    return Eq26Numbers(
+        y0_m=value(eq.y0),  # the closed form of the static deflection: y0's one route
+        f_n0_hz=omega0 / (2 * math.pi),
+        omega0_rad_s=omega0,
+        Q_n=parameters.Q_n,
+        c_per_s=c,
+        h_per_m_s2=value(eq.h),
+        damping_ratio=c / omega0,
+        G_per_P_a=value(eq.G / P_a),
+    )
 
 
 class Eq26:
@@ -63,11 +133,13 @@ class Eq26:
     >>> eq = Eq26()
     >>> eq.omega0_squared
     g*m2*(S*c_n/(M*g))**(1/m2)
-    >>> round(eq.numeric()["f_n0_hz"], 2)
+    >>> round(eq.numbers().f_n0_hz, 2)
     1485.59
     """
 
     def __init__(self, model: ContactModel | None = None) -> None:
+        if model is not None and not isinstance(model, ContactModel):
+            raise ValueError(f"`model` must be a ContactModel, got {model!r}.")
         base = model if model is not None else ContactModel()
         # Eq. 2.5 expands the full laws, so derive from the power-law model.
         self.model = ContactModel(base.parameters)
@@ -124,33 +196,9 @@ class Eq26:
             - self.G * sp.cos(2 * sp.pi * f_e * t)
         )
 
-    def numeric(self) -> dict[str, float]:
-        """The model's figures in SI units, with unit-suffixed keys."""
-        return dict(_numeric_figures(self.model.parameters))
-
-    def _numeric(self) -> dict[str, float]:
-        value = self.model.numeric
-        omega0 = math.sqrt(value(self.omega0_squared))
-        c = value(self.c)
-        return {
-            "y0_m": value(self.y0),
-            "f_n0_hz": omega0 / (2 * math.pi),
-            "omega0_rad_s": omega0,
-            "Q_n": value(M * g),
-            "c_per_s": c,
-            "h_per_m_s2": value(self.h),
-            "damping_ratio": c / omega0,
-        }
-
-    def numeric_coefficients(self) -> dict[str, float]:
-        """c, omega0^2, h at the parameter values, and G per unit P_a."""
-        value = self.model.numeric
-        return {
-            "c": value(self.c),
-            "omega0_squared": value(self.omega0_squared),
-            "h": value(self.h),
-            "G_per_P_a": value(self.G / P_a),
-        }
+    def numbers(self) -> Eq26Numbers:
+        """The coefficients' values at the model's parameters (``eq26_numbers``)."""
+        return eq26_numbers(self.model.parameters)
 
     def __repr__(self) -> str:
         return f"Eq26({self.model!r})"

@@ -29,6 +29,8 @@ from functools import lru_cache
 
 import sympy as sp
 
+from common import check_int
+
 from . import _series_symbols as sym
 from . import _symbols as model_symbols
 from ._eq26 import Eq26
@@ -136,12 +138,18 @@ class Series:
 
     def has_b(self, n: int) -> bool:
         """Whether b_n is non-zero (b_1 = b_3 = ... = 0: no fundamental at odd orders)."""
-        return n >= 1 and self.equations[self._check_n(n)].has_b
+        n = self._check_n(n)
+        return n >= 1 and self.equations[n].has_b
 
     def _check_n(self, n: int) -> int:
-        if not 0 <= n <= self.order:
-            raise ValueError(f"`n` must be in 0..{self.order}, got {n!r}.")
-        return n
+        return check_int("n", n, minimum=0, maximum=self.order)
+
+    def _rhs(self, n: int, k: int) -> list[Term]:
+        """The terms of harmonic k of the order-n right side; a KeyError lists the harmonics."""
+        rhs = self.equations[self._check_n(n)].rhs
+        if k not in rhs:
+            raise KeyError(f"no harmonic k={k!r} at order n={n}; available: {sorted(rhs)}")
+        return rhs[k]
 
     # -- closed forms in the systematic names --------------------------------
     def b_closed_form(self, n: int) -> sp.Expr:
@@ -156,11 +164,11 @@ class Series:
 
     def rhs_cosines(self, n: int, k: int) -> sp.Expr:
         """Harmonic k of the order-n right side, as a sum of cosines of t."""
-        return sp.Add(*(term.printed() for term in self.equations[self._check_n(n)].rhs[k]))
+        return sp.Add(*(term.printed() for term in self._rhs(n, k)))
 
     def forcing_closed_form(self, n: int, k: int) -> tuple[sp.Expr, sp.Expr]:
         """(F_n_k, psi_n_k) with F cos(k Omega t + psi) = harmonic k of the right side."""
-        terms = self.equations[self._check_n(n)].rhs[k]
+        terms = self._rhs(n, k)
         if k and len(terms) == 1 and not terms[0].bs:
             # One cosine of known sign: its size, and pi more phase if negative.
             (term,) = terms
@@ -174,10 +182,10 @@ class Series:
 
     def solution_closed_form(self, n: int, k: int) -> tuple[sp.Expr, sp.Expr]:
         """(A_n_k, phi_n_k) of u_n in closed form of F_n_k, psi_n_k, H_k, theta_k."""
+        self._rhs(n, k)  # a KeyError for a harmonic u_n does not have
         if n == 0:
             # Eq. 2.8: A0 = G H_1, phi0 = theta_1.
             return sym.G * sym.gain(1), sym.lag(1)
-        self.equations[self._check_n(n)].rhs[k]  # KeyError: no such harmonic
         if k == 0:
             return sym.forcing_amplitude(n, 0) / sym.omega**2, sp.Integer(0)
         return sym.gain(k) * sym.forcing_amplitude(n, k), sym.forcing_phase(n, k) + sym.lag(k)

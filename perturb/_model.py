@@ -6,9 +6,13 @@ both generated from the expressions built here.
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Mapping
 from functools import cache, cached_property
 
 import sympy as sp
+
+from common import check_keys
 
 from ._effects import FULL, Effects
 from ._parameters import PAPER, ContactParameters
@@ -47,6 +51,14 @@ class ContactModel:
     (M*g/(S*c_n))**(1/m2)
     >>> round(model.numeric(model.static_deflection) * 1e9, 1)  # nm
     225.2
+
+    As data (how a result carries the model that made it), and back:
+
+    >>> data = ContactModel(effects=Effects(gravity=False)).as_dict()
+    >>> data["effects"]["gravity"], data["parameters"]["M"]
+    (False, 0.2106)
+    >>> ContactModel.from_dict(data) == ContactModel(effects=Effects(gravity=False))
+    True
     """
 
     def __init__(
@@ -153,8 +165,30 @@ class ContactModel:
         """The acceleration with every parameter replaced by its value."""
         return self.acceleration(force).subs(self.values)
 
-    def __repr__(self) -> str:
-        from ._parameters import PAPER
+    # -- as data ------------------------------------------------------------
+    def as_dict(self) -> dict:
+        """``{"parameters": {...}, "effects": {...}}``: plain JSON-ready values."""
+        return {
+            "parameters": self.parameters.as_dict(),
+            "effects": dataclasses.asdict(self.effects),
+        }
 
+    @classmethod
+    def from_dict(cls, data: Mapping) -> ContactModel:
+        """The model that ``as_dict`` described; a ValueError names a missing or unknown key."""
+        data = check_keys("model", data, ("parameters", "effects"))
+        parameters = ContactParameters.from_dict(data["parameters"])
+        effects = Effects(**check_keys("effects", data["effects"], Effects.names()))
+        return cls(parameters, effects)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, ContactModel):
+            return NotImplemented
+        return (self.parameters, self.effects) == (other.parameters, other.effects)
+
+    def __hash__(self) -> int:
+        return hash((self.parameters, self.effects))
+
+    def __repr__(self) -> str:
         values = "paper values" if self.parameters == PAPER else repr(self.parameters)
         return f"ContactModel({values}; {self.effects.label()})"

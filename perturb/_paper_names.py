@@ -15,7 +15,10 @@ Conventions the paper uses without stating them
   cos(Omega t + theta_1). That is why u2 of Eq. 2.10 carries "2 phi0": the
   phase phi0 of its right side plus theta_1 = phi0 of the transfer.
 - Amplitudes are signed: A1 = -h A0^2 H_2 / 2 < 0 (so that phi1 = theta_2),
-  A2, A8, A11 are means, A5 and A6 are negative, A7 = A3 + A4.
+  A2, A8, A11 are means, A7 = A3 + A4. A5 = -h A0 A1 H_1 and
+  A6 = -h A0 A1 H_3 carry the sign of -A1 and are positive (h > 0): the mapping
+  gives them as h A_0_1 A_1_2 H_1 and h A_0_1 A_1_2 H_3, products of
+  non-negative factors.
 - phi3, phi4, phi6, phi7, phi8 are phases of the right sides (psi_n_k), and
   A8-A10, A14-A16 their amplitudes (F_n_k).
 

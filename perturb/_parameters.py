@@ -6,9 +6,9 @@ defined here and nowhere else; the rest of the toolkit imports it.
 
 from __future__ import annotations
 
-import math
-import numbers
 from dataclasses import asdict, dataclass, fields
+
+from common import check_keys, check_positive
 
 __all__ = [
     "ContactParameters",
@@ -19,21 +19,7 @@ __all__ = [
     "PAPER_F_N0_HZ",
     "PAPER_HYSTERESIS_POINT",
     "PAPER_PANEL_FRACTIONS",
-    "check_positive",
 ]
-
-
-def check_positive(name: str, value: float, *, allow_zero: bool = False) -> float:
-    """Return ``float(value)``, or raise a ValueError that names the argument."""
-    if isinstance(value, (bool, str)) or not isinstance(value, numbers.Real):
-        raise ValueError(f"`{name}` must be a real number, got {value!r}.")
-    number = float(value)
-    if not math.isfinite(number):
-        raise ValueError(f"`{name}` must be finite, got {value!r}.")
-    if number < 0 or (number == 0 and not allow_zero):
-        bound = ">= 0" if allow_zero else "> 0"
-        raise ValueError(f"`{name}` must be {bound}, got {value!r}.")
-    return number
 
 
 @dataclass(frozen=True)
@@ -85,12 +71,29 @@ class ContactParameters:
         object.__setattr__(self, "l", check_positive("l", self.l, allow_zero=True))
 
     @property
-    def weight_n(self) -> float:
+    def Q_n(self) -> float:
         """The slider's weight Q = M g [N] (Eq. 2.2)."""
         return self.M * self.g
 
     def as_dict(self) -> dict[str, float]:
+        """The seven values by name, in the order of the fields."""
         return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data) -> ContactParameters:
+        """The parameters that ``as_dict`` gave; a missing or unknown key is a ValueError.
+
+        Examples
+        --------
+        >>> ContactParameters.from_dict(PAPER.as_dict()) == PAPER
+        True
+        >>> ContactParameters.from_dict({"S": 1.0})
+        Traceback (most recent call last):
+        ...
+        ValueError: `parameters` must have exactly the keys ('S', 'c_n', 'm2', 'h_n', 'l', \
+'M', 'g'); missing ['c_n', 'm2', 'h_n', 'l', 'M', 'g'], unknown [].
+        """
+        return cls(**check_keys("parameters", data, cls.names()))
 
     @classmethod
     def names(cls) -> tuple[str, ...]:

@@ -29,6 +29,12 @@ _LATEX_BASE = {"A": "A", "phi": r"\varphi", "F": "F", "psi": r"\psi", "z": "z", 
 _LATEX_SINGLE = {"b": "b", "H": "H", "theta": r"\theta", "u": "u"}
 
 
+def _check_series(series) -> Series:
+    if not isinstance(series, Series):
+        raise ValueError(f"`series` must be a Series (from `derive`), got {series!r}.")
+    return series
+
+
 def _u(n: int) -> sp.Symbol:
     return sp.Symbol(f"u_{n}")
 
@@ -121,6 +127,7 @@ def text_report(series: Series, *, pretty: bool = False) -> str:
         Two-dimensional unicode formulas (``sympy.pretty``) instead of one-line
         expressions.
     """
+    _check_series(series)
 
     def block(left: sp.Expr, right: sp.Expr, indent: str) -> list[str]:
         return [indent + row for row in _line(left, right, pretty).splitlines()]
@@ -147,8 +154,26 @@ def _latex(expr: sp.Expr) -> str:
     return sp.latex(expr, symbol_names=latex_names(expr))
 
 
+def _split_row(term: str, *, first: bool) -> str:
+    """One harmonic of the split right side: the split opens with ``=`` (as Eq. 2.9
+    and 2.10 write it), each further harmonic continues the sum with its sign."""
+    if first:
+        return rf"&= {term}"
+    sign = "" if term.startswith("-") else "+ "
+    return rf"&\phantom{{=}}\quad {sign}{term}"
+
+
 def latex_report(series: Series) -> str:
-    """The derivation as a LaTeX fragment (``align*`` blocks, one per order)."""
+    r"""The derivation as a LaTeX fragment (``align*`` blocks, one per order).
+
+    The right side of order n is written twice: as products of lower orders,
+    then ``=`` its split into harmonics, one harmonic per line::
+
+        \ddot u_1 + ... &= b_1 u_0 - h u_0^2 \\
+        &= -\frac{A_{0,1}^2 h}{2} \\
+        &\phantom{=}\quad - \frac{A_{0,1}^2 h \cos(2\Omega t + 2\varphi_{0,1})}{2}
+    """
+    _check_series(series)
     out = [
         rf"% Perturbation series of Eq. 2.6 to order {series.order} (perturb derive)",
         r"\begin{align*}",
@@ -160,9 +185,11 @@ def latex_report(series: Series) -> str:
         out.append(rf"\paragraph{{$\varepsilon^{{{n}}}$}}")
         out.append(r"\begin{align*}")
         rows = [rf"{_left_side_latex(n)} &= {_latex(generic_right_side(n))}"]
+        split = 0
         for label, left, right in _order_items(series, n):
             if label == "right side":
-                rows.append(rf"&\quad {_latex(right)}")
+                rows.append(_split_row(_latex(right), first=split == 0))
+                split += 1
             else:
                 rows.append(rf"{_latex(left)} &= {_latex(right)}")
         out.append("\\\\\n".join(rows))
@@ -191,6 +218,7 @@ def series_json(series: Series) -> dict:
     >>> data["b"], data["terms"][2]["amplitude"]
     ({'1': '0'}, 'A_0_1**2*h/(2*sqrt(16*Omega**2*c**2 + (-4*Omega**2 + omega**2)**2))')
     """
+    _check_series(series)
     from ._paper_names import paper_names
 
     terms = []

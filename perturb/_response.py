@@ -21,7 +21,9 @@ Each point has a validity flag: false where the response would lose contact
 a-posteriori error estimate (``truncation_error``), the larger peak-to-peak
 change of u(t) from order N to the orders N+1 and N+2 on their nearest root,
 must be below ``tolerance`` (1 %) of App; a point with no root of those orders
-nearby (near a fold that moves with the order) is not valid.
+nearby (near a fold that moves with the order) has no estimate (NaN) and is not
+valid. Validity is about the truncation error and contact, not stability: the
+middle root of a bent peak can be valid and is an unstable orbit.
 
 Examples
 --------
@@ -35,59 +37,53 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from functools import lru_cache
+import time
 
 import numpy as np
 import numpy.typing as npt
 
+from common import Result, check_int, check_pair, check_positive, lane_array, result
+
 from ._compiled import CompiledSeries, compile_series
-from ._eq26 import Eq26
+from ._effects import EQ_2_6
+from ._eq26 import Eq26Numbers, eq26_numbers
 from ._model import ContactModel
-from ._parameters import PAPER, ContactParameters, check_positive
+from ._parameters import PAPER, ContactParameters
 from ._series_symbols import check_order
 
-__all__ = ["frequency_response", "Response", "Branch", "Eq26Values", "eq26_values"]
+__all__ = ["frequency_response", "Response", "Branch"]
 
 #: Offsets of the extra grid points around each resonance k Omega, in units of c.
 _RESONANCE_OFFSETS = np.array([-12.0, -6.0, -3.0, -1.5, -0.75, 0.0, 0.75, 1.5, 3.0, 6.0, 12.0])
 _CHUNK = 4096
 
 
-@dataclass(frozen=True)
-class Eq26Values:
-    """The numbers of Eq. 2.6 for one set of parameters (SI)."""
-
-    c: float
-    omega0: float
-    h: float
-    G_per_P_a: float
-    y0_m: float
-    Q_n: float
-
-
-@lru_cache(maxsize=16)
-def eq26_values(parameters: ContactParameters = PAPER) -> Eq26Values:
-    """Evaluate Eq26's coefficients once per parameter set."""
-    eq = Eq26(ContactModel(parameters))
-    coefficients, figures = eq.numeric_coefficients(), eq.numeric()
-    return Eq26Values(
-        c=coefficients["c"],
-        omega0=figures["omega0_rad_s"],
-        h=coefficients["h"],
-        G_per_P_a=coefficients["G_per_P_a"],
-        y0_m=figures["y0_m"],
-        Q_n=figures["Q_n"],
-    )
-
-
-@dataclass(frozen=True)
-class Branch:
+@result
+class Branch(Result):
     """One root of the frequency equation per frequency where it exists.
 
     Branch j holds, at each frequency with more than j roots, the root with the
-    (j+1)-th largest omega. ``error`` is the estimate of App's relative error
-    from the next two orders (``truncation_error``; inf: no matching root).
+    (j+1)-th largest omega. Every field is an array over those frequencies.
+
+    Attributes
+    ----------
+    frequency_hz : ndarray
+        Excitation frequencies f_e [Hz] where the branch has a root.
+    app_m : ndarray
+        Peak-to-peak amplitude App = max u - min u of the reconstructed u(t) [m].
+    a0_m : ndarray
+        Amplitude A0 = G H_1(omega) of the fundamental u0 [m].
+    omega_rad_s : ndarray
+        The root: the non-linear natural frequency omega [rad/s] (Eq. 2.7).
+    u_min_m, u_max_m : ndarray
+        Least and largest u = y - y0 over a period [m].
+    valid : ndarray of bool
+        ``error_estimate < tolerance`` and contact kept (y0 + min u > 0). It says
+        the series is accurate there, not that the orbit is stable: a valid root
+        on the middle branch of a bent peak is an unstable orbit.
+    error_estimate : ndarray
+        Estimated relative error of App from the next two orders
+        (``truncation_error``); NaN where no root of those orders matches.
     """
 
     frequency_hz: np.ndarray
@@ -97,51 +93,83 @@ class Branch:
     u_min_m: np.ndarray
     u_max_m: np.ndarray
     valid: np.ndarray
-    error: np.ndarray
+    error_estimate: np.ndarray
 
-    def as_json(self) -> dict[str, list]:
-        return {
-            "frequency_hz": self.frequency_hz.tolist(),
-            "app_m": self.app_m.tolist(),
-            "a0_m": self.a0_m.tolist(),
-            "omega_rad_s": self.omega_rad_s.tolist(),
-            "valid": [bool(v) for v in self.valid],
-        }
+    @classmethod
+    def from_dict(cls, data: dict) -> Branch:
+        branch = super().from_dict(data)
+        branch.valid = np.asarray(branch.valid, dtype=bool)
+        return branch
+
+    def summary(self) -> str:
+        return f"Branch: {self.describe()}"
+
+    def describe(self) -> str:
+        """Points, valid points, and where the largest valid App is, in words."""
+        counts = f"{self.frequency_hz.size} points, {int(self.valid.sum())} valid"
+        if not self.valid.any():
+            return f"{counts}, no valid point"
+        best = int(np.argmax(np.where(self.valid, self.app_m, -np.inf)))
+        return (f"{counts}, largest valid App {self.app_m[best]:.4g} m at "
+                f"{self.frequency_hz[best]:.6g} Hz")
 
 
-@dataclass(frozen=True)
-class Response:
-    """The analytic frequency response of the order-N series at one P_a."""
+@result
+class Response(Result):
+    """The analytic frequency response of the order-N series at one P_a.
+
+    Attributes
+    ----------
+    order : int
+        Order N of the series.
+    pa_frac : float
+        Force amplitude P_a / Q.
+    frequency_hz : ndarray
+        Every excitation frequency asked for [Hz] (a frequency with no root in
+        ``omega_range`` is in no branch).
+    branches : list of Branch
+        Branch j: the root with the (j+1)-th largest omega, where there is one.
+    model : dict
+        The model whose equation the series solves: Eq. 2.6, i.e. the
+        parameters with the effects ``EQ_2_6`` (``ContactModel.as_dict()``).
+    settings : dict
+        ``omega_range``, ``grid_points``, ``samples``, ``tolerance``.
+    elapsed_s : float
+        Wall time of the computation [s].
+    """
 
     order: int
     pa_frac: float
     frequency_hz: np.ndarray
-    branches: list[Branch] = field(default_factory=list)
-
-    def as_json(self) -> dict:
-        return {
-            "order": self.order,
-            "pa_frac": self.pa_frac,
-            "branches": [branch.as_json() for branch in self.branches],
-        }
+    branches: list[Branch]
+    model: dict
+    settings: dict
+    elapsed_s: float
 
     def roots_per_frequency(self) -> np.ndarray:
+        """How many roots (responses) each frequency of ``frequency_hz`` has."""
         counts = np.zeros(self.frequency_hz.shape, dtype=int)
         for branch in self.branches:
             counts[np.searchsorted(self.frequency_hz, branch.frequency_hz)] += 1
         return counts
 
-    def __repr__(self) -> str:
+    def summary(self) -> str:
         n_valid = sum(int(b.valid.sum()) for b in self.branches)
         n_points = sum(b.valid.size for b in self.branches)
         return (
-            f"Response(order={self.order}, pa_frac={self.pa_frac}, "
+            f"Response: order {self.order}, pa_frac {self.pa_frac:g}, "
             f"{self.frequency_hz.size} frequencies, {len(self.branches)} branches, "
-            f"{n_valid}/{n_points} points valid)"
+            f"{n_valid}/{n_points} points valid, {self.elapsed_s:.2f} s"
+        )
+
+    def table(self) -> str:
+        return "\n".join(
+            f"  branch {j}: {branch.describe()}"
+            for j, branch in enumerate(self.branches)
         )
 
 
-def _residual(formulas: CompiledSeries, values: Eq26Values, G, omega, Omega):
+def _residual(formulas: CompiledSeries, values: Eq26Numbers, G, omega, Omega):
     """omega^2 - omega0^2 - sum b_n, with A0 = G H_1(omega) (Eq. 2.7, 2.8)."""
     out = np.empty(np.broadcast(G, omega, Omega).shape)
     G, omega, Omega = (np.broadcast_to(a, out.shape).ravel() for a in (G, omega, Omega))
@@ -149,18 +177,19 @@ def _residual(formulas: CompiledSeries, values: Eq26Values, G, omega, Omega):
     for start in range(0, flat.size, _CHUNK):
         part = slice(start, start + _CHUNK)
         w, W = omega[part], Omega[part]
-        a0 = G[part] / np.hypot(w**2 - W**2, 2 * values.c * W)
-        shift = formulas.frequency_shift(a0, w, W, values.c, values.h)
-        flat[part] = w**2 - values.omega0**2 - shift
+        a0 = G[part] / np.hypot(w**2 - W**2, 2 * values.c_per_s * W)
+        shift = formulas.frequency_shift(a0, w, W, values.c_per_s, values.h_per_m_s2)
+        flat[part] = w**2 - values.omega0_rad_s**2 - shift
     return out
 
 
 def _omega_grid(Omega, order, values, omega_range, points):
     """Candidate omega per frequency: uniform, plus dense around each k Omega."""
-    lo, hi = omega_range[0] * values.omega0, omega_range[1] * values.omega0
+    lo, hi = omega_range[0] * values.omega0_rad_s, omega_range[1] * values.omega0_rad_s
     uniform = np.broadcast_to(np.linspace(lo, hi, points), (Omega.size, points))
     k = np.arange(1, order + 2)
-    near = (k[None, :, None] * Omega[:, None, None]) + values.c * _RESONANCE_OFFSETS[None, None, :]
+    offsets = values.c_per_s * _RESONANCE_OFFSETS[None, None, :]
+    near = (k[None, :, None] * Omega[:, None, None]) + offsets
     grid = np.concatenate([uniform, near.reshape(Omega.size, -1)], axis=1)
     return np.sort(np.clip(grid, lo, hi), axis=1)
 
@@ -256,9 +285,9 @@ def _waveform(formulas, values, a0, omega, Omega, samples):
     Phases are those of the excitation, u0 = A0 cos(Omega t + theta_1(omega)),
     so that waveforms of different omega (orders) can be subtracted.
     """
-    amplitudes = formulas.amplitudes(a0, omega, Omega, values.c, values.h)
+    amplitudes = formulas.amplitudes(a0, omega, Omega, values.c_per_s, values.h_per_m_s2)
     per_harmonic = formulas.harmonics([np.broadcast_to(z, a0.shape) for z in amplitudes])
-    theta_1 = -np.angle(omega**2 - Omega**2 + 2j * values.c * Omega)
+    theta_1 = -np.angle(omega**2 - Omega**2 + 2j * values.c_per_s * Omega)
     k = np.arange(per_harmonic.shape[-1])
     per_harmonic *= np.exp(1j * np.multiply.outer(theta_1, k))
     # Re(z exp(i k theta)) = Re z cos(k theta) - Im z sin(k theta): two real products.
@@ -333,18 +362,19 @@ def truncation_error(order, values, G, Omega, rows, roots, base, app) -> np.ndar
     max over k = 1, 2 of pp(u_(N+k) - u_N) / App_N, where u_M is the
     reconstructed u(t) of the order-M series (in the time frame of the
     excitation) on its root nearest to the order-N root (``_nearby_root``;
-    inf where no root of order N+k lies within ``_match_distance``), and pp
+    NaN where no root of order N+k lies within ``_match_distance``), and pp
     is max - min over a period; ``base`` is u_N sampled over a period (lanes,
     samples), as ``_waveform`` gives it. It bounds |App_(N+k) - App_N| / App_N. The
     term b_(N+1) left out of the frequency equation is what the resonance
-    amplifies; at odd N it is zero and only order N+2 sees it, hence two
+    amplifies; at even N it is zero (b_n = 0 for odd n), so order N+1 has the
+    frequency equation of order N and only order N+2 sees it, hence two
     orders. Orders with the same frequency equation (b_n = 0 for odd n) share
     their roots. The whole waveform is compared, not only App: near the 1/2
     superharmonic peak at 0.15 Q (745 Hz) App changes by < 0.2 % from order 2
     to 11 while it is 1.4 % off RK4 of Eq. 2.6, and the waveform still moves.
     """
     Omega_r, G_r = Omega[rows], np.full(rows.size, G)
-    distance = _match_distance(rows, roots, values.c)
+    distance = _match_distance(rows, roots, values.c_per_s)
     solved = {compile_series(order).b_orders: (roots, np.ones(roots.size, dtype=bool))}
     error = np.zeros(roots.size)
     samples = base.shape[1]
@@ -355,27 +385,24 @@ def truncation_error(order, values, G, Omega, rows, roots, base, app) -> np.ndar
                 formulas, values, G_r, Omega_r, roots, distance
             )
         omega, matched = solved[formulas.b_orders]
-        a0 = G / np.hypot(omega**2 - Omega_r**2, 2 * values.c * Omega_r)
+        a0 = G / np.hypot(omega**2 - Omega_r**2, 2 * values.c_per_s * Omega_r)
         change = _waveform(formulas, values, a0, omega, Omega_r, samples) - base
         with np.errstate(divide="ignore", invalid="ignore"):
             step = (change.max(axis=1) - change.min(axis=1)) / app
-        error = np.maximum(error, np.where(matched & np.isfinite(step), step, np.inf))
+        # np.maximum keeps a NaN: a lane unmatched at either order has no estimate.
+        error = np.maximum(error, np.where(matched & np.isfinite(step), step, np.nan))
     return error
 
 
-def _check_frequencies(frequencies_hz) -> np.ndarray:
-    freq = np.atleast_1d(np.asarray(frequencies_hz, dtype=float))
-    if freq.ndim != 1 or freq.size == 0:
-        raise ValueError(f"`frequencies_hz` must be a non-empty 1-d array, got shape {freq.shape}.")
-    if not np.all(np.isfinite(freq)) or np.any(freq <= 0):
-        raise ValueError("`frequencies_hz` must be finite and > 0.")
+def _check_frequencies(frequency_hz) -> np.ndarray:
+    freq = lane_array("frequency_hz", frequency_hz, positive=True)
     if np.any(np.diff(freq) <= 0):
-        raise ValueError("`frequencies_hz` must be strictly increasing.")
+        raise ValueError(f"`frequency_hz` must be strictly increasing, got {frequency_hz!r}.")
     return freq
 
 
 def frequency_response(
-    frequencies_hz: npt.ArrayLike,
+    frequency_hz: npt.ArrayLike,
     pa_frac: float,
     order: int = 6,
     *,
@@ -389,7 +416,7 @@ def frequency_response(
 
     Parameters
     ----------
-    frequencies_hz : array_like, shape (m,)
+    frequency_hz : array_like, shape (m,)
         Excitation frequencies f_e [Hz], > 0 and strictly increasing.
     pa_frac : float
         Force amplitude P_a as a fraction of the weight Q (>= 0; at 0 the one
@@ -400,12 +427,12 @@ def frequency_response(
         The physical parameters (the paper's by default).
     omega_range : (float, float)
         Where to look for the non-linear natural frequency omega, in units of
-        omega0.
+        omega0 (0 < lo < hi).
     grid_points : int
-        Uniform grid points in ``omega_range`` (more points are added around
-        every k Omega, k = 1..N+1).
+        Uniform grid points in ``omega_range``, >= 2 (more points are added
+        around every k Omega, k = 1..N+1).
     samples : int
-        Samples per period of the reconstructed u(t) for its extrema.
+        Samples per period of the reconstructed u(t) for its extrema, >= 3.
     tolerance : float
         A point is valid only if its estimated relative error is below
         ``tolerance``: the peak-to-peak change of u(t) when orders N+1 and
@@ -417,32 +444,59 @@ def frequency_response(
     Returns
     -------
     Response
-        Branches with f_e, App, A0, omega, min and max of u, and validity. A
-        frequency where no omega in ``omega_range`` solves the equation (the
-        truncated series has no bounded response there) has no point.
+        Branches with f_e, App, A0, omega, min and max of u, the error
+        estimate and validity. A frequency where no omega in ``omega_range``
+        solves the equation (the truncated series has no bounded response
+        there) has no point.
+
+    Notes
+    -----
+    ``valid`` is about the series, not about stability: a valid root is a
+    periodic solution of Eq. 2.6 that the series gives to within ``tolerance``,
+    and it may be an unstable orbit. On a bent peak the roots alternate stable,
+    unstable, stable by decreasing omega (branches 0, 1, 2); the middle one is
+    the unstable orbit between the two attractors, which no time marching
+    settles on.
     """
-    freq = _check_frequencies(frequencies_hz)
+    start = time.perf_counter()
+    freq = _check_frequencies(frequency_hz)
     pa_frac = check_positive("pa_frac", pa_frac, allow_zero=True)
     order = check_order(order)
+    if not isinstance(parameters, ContactParameters):
+        raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
+    omega_range = check_pair("omega_range", omega_range, positive=True)
+    grid_points = check_int("grid_points", grid_points, minimum=2)
+    samples = check_int("samples", samples, minimum=3)
     tolerance = check_positive("tolerance", tolerance)
-    if not 0 < omega_range[0] < omega_range[1]:
-        raise ValueError(f"`omega_range` must be (lo, hi) with 0 < lo < hi, got {omega_range!r}.")
-    values = eq26_values(parameters)
+    values = eq26_numbers(parameters)
     formulas = compile_series(order)
     Omega = 2 * np.pi * freq
     G = pa_frac * values.Q_n * values.G_per_P_a
     if G == 0:
-        return Response(order, pa_frac, freq, [_at_rest(freq, values.omega0)])
-
-    rows, roots = _roots(formulas, values, G, Omega, order, omega_range, grid_points)
-    a0 = G / np.hypot(roots**2 - Omega[rows] ** 2, 2 * values.c * Omega[rows])
-    u = _waveform(formulas, values, a0, roots, Omega[rows], samples)  # order N, once
-    u_max, u_min = _extrema(u)
-    error = truncation_error(order, values, G, Omega, rows, roots, u, u_max - u_min)
-    valid = (values.y0_m + u_min > 0) & (error < tolerance)
+        branches = [_at_rest(freq, values.omega0_rad_s)]
+    else:
+        rows, roots = _roots(formulas, values, G, Omega, order, omega_range, grid_points)
+        a0 = G / np.hypot(roots**2 - Omega[rows] ** 2, 2 * values.c_per_s * Omega[rows])
+        u = _waveform(formulas, values, a0, roots, Omega[rows], samples)  # order N, once
+        u_max, u_min = _extrema(u)
+        error = truncation_error(order, values, G, Omega, rows, roots, u, u_max - u_min)
+        valid = (values.y0_m + u_min > 0) & (error < tolerance)
+        branches = _branches(freq, rows, roots, a0, u_min, u_max, valid, error)
     return Response(
-        order, pa_frac, freq, _branches(freq, rows, roots, a0, u_min, u_max, valid, error)
+        order=order,
+        pa_frac=pa_frac,
+        frequency_hz=freq,
+        branches=branches,
+        model=_eq26_model(parameters),
+        settings={"omega_range": list(omega_range), "grid_points": grid_points,
+                  "samples": samples, "tolerance": tolerance},
+        elapsed_s=time.perf_counter() - start,
     )
+
+
+def _eq26_model(parameters: ContactParameters) -> dict:
+    """The model whose equation the series solves (Eq. 2.6), as data."""
+    return ContactModel(parameters, EQ_2_6).as_dict()
 
 
 def _at_rest(freq: np.ndarray, omega0: float) -> Branch:
@@ -451,9 +505,12 @@ def _at_rest(freq: np.ndarray, omega0: float) -> Branch:
     b_n is written with a division by A0 (Eq. 2.10), so the frequency equation
     cannot be evaluated there; it is not needed.
     """
-    zero = np.zeros(freq.size)
-    return Branch(frequency_hz=freq, app_m=zero, a0_m=zero, omega_rad_s=np.full(freq.size, omega0),
-                  u_min_m=zero, u_max_m=zero, valid=np.ones(freq.size, dtype=bool), error=zero)
+    def zero():
+        return np.zeros(freq.size)
+
+    return Branch(frequency_hz=freq.copy(), app_m=zero(), a0_m=zero(),
+                  omega_rad_s=np.full(freq.size, omega0), u_min_m=zero(), u_max_m=zero(),
+                  valid=np.ones(freq.size, dtype=bool), error_estimate=zero())
 
 
 def _roots(formulas, values, G, Omega, order, omega_range, grid_points):
@@ -492,7 +549,7 @@ def _branches(freq, rows, roots, a0, u_min, u_max, valid, error) -> list[Branch]
                 u_min_m=u_min[pick],
                 u_max_m=u_max[pick],
                 valid=valid[pick],
-                error=error[pick],
+                error_estimate=error[pick],
             )
         )
     return branches

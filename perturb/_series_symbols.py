@@ -22,10 +22,11 @@ Examples
 
 from __future__ import annotations
 
-import numbers
 from functools import lru_cache
 
 import sympy as sp
+
+from common import check_int
 
 __all__ = ["c", "h", "G", "omega", "omega0", "Omega", "eps", "t"]
 __all__ += ["amplitude", "phase", "forcing_amplitude", "forcing_phase", "b", "gain", "lag"]
@@ -83,7 +84,7 @@ def complex_amplitude(n: int, k: int, conjugate: bool = False) -> sp.Symbol:
 
 
 def check_order(order: object, name: str = "order", minimum: int = 0) -> int:
-    """Return ``order`` as an int, or raise a ValueError naming the argument.
+    """Return ``order`` as an int, or raise a ValueError naming the argument (``check_int``).
 
     Examples
     --------
@@ -94,6 +95,4 @@ def check_order(order: object, name: str = "order", minimum: int = 0) -> int:
     ...
     ValueError: `order` must be an integer >= 0, got 2.5.
     """
-    if isinstance(order, bool) or not isinstance(order, numbers.Integral) or order < minimum:
-        raise ValueError(f"`{name}` must be an integer >= {minimum}, got {order!r}.")
-    return int(order)
+    return check_int(name, order, minimum)

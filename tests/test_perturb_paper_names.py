@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 import sympy as sp
 
+from perturb import eq26_numbers
 from perturb._compiled import compile_series
 from perturb._paper_names import PAPER_NAMES, paper_names
-from perturb._response import eq26_values
 
-VALUES = eq26_values()
+VALUES = eq26_numbers()
 # (A0 [m], omega / omega0, Omega / omega0): off resonance, near the 1/2 and 1/3
 # superharmonic and near the primary resonance.
 POINTS = [(5e-8, 0.97, 0.31), (8e-8, 0.96, 0.49), (3e-8, 0.99, 0.335), (1e-7, 0.95, 0.94)]
@@ -147,9 +147,9 @@ def engine(A0, w, W, c, h):
 
 @pytest.mark.parametrize("point", POINTS)
 def test_printed_harmonics_agree_with_engine(point):
-    A0, w, W = point[0], point[1] * VALUES.omega0, point[2] * VALUES.omega0
-    _, printed = paper(A0, w, W, VALUES.c, VALUES.h)
-    _, derived = engine(A0, w, W, VALUES.c, VALUES.h)
+    A0, w, W = point[0], point[1] * VALUES.omega0_rad_s, point[2] * VALUES.omega0_rad_s
+    _, printed = paper(A0, w, W, VALUES.c_per_s, VALUES.h_per_m_s2)
+    _, derived = engine(A0, w, W, VALUES.c_per_s, VALUES.h_per_m_s2)
     assert set(printed) == set(derived)
     for key in printed:
         scale = max(abs(derived[key]), 1e-300)
@@ -158,9 +158,9 @@ def test_printed_harmonics_agree_with_engine(point):
 
 @pytest.mark.parametrize("point", POINTS)
 def test_paper_names_map_onto_engine_names(point):
-    A0, w, W = point[0], point[1] * VALUES.omega0, point[2] * VALUES.omega0
-    printed, _ = paper(A0, w, W, VALUES.c, VALUES.h)
-    named, _ = engine(A0, w, W, VALUES.c, VALUES.h)
+    A0, w, W = point[0], point[1] * VALUES.omega0_rad_s, point[2] * VALUES.omega0_rad_s
+    printed, _ = paper(A0, w, W, VALUES.c_per_s, VALUES.h_per_m_s2)
+    named, _ = engine(A0, w, W, VALUES.c_per_s, VALUES.h_per_m_s2)
     for name, expression in PAPER_NAMES.items():
         expr = sp.sympify(expression)
         value = complex(expr.subs({sp.Symbol(str(s)): named[str(s)] for s in expr.free_symbols}))

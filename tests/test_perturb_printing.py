@@ -1,21 +1,26 @@
 """Printing of the series (text, LaTeX, JSON) and the command line."""
 
 import json
+import os
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 import sympy as sp
 
-from perturb import compile_series, derive, latex_report, series_json, text_report
+from perturb import compile_series, derive, eq26_numbers, latex_report, series_json, text_report
 from perturb.__main__ import main
-from perturb._response import eq26_values
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def run_cli(*args):
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}  # this tree's code, whatever is installed
     return subprocess.run(
-        [sys.executable, "-m", "perturb", *args], capture_output=True, text=True, check=False
+        [sys.executable, "-m", "perturb", *args], capture_output=True, text=True, check=False,
+        env=env,
     )
 
 
@@ -32,16 +37,39 @@ def test_latex_report_uses_paper_like_names():
     assert tex.count(r"\begin{align*}") == tex.count(r"\end{align*}") == 5
 
 
+def split_rows(tex, n):
+    """The rows of order n's align block from its equation to b_n."""
+    block = tex.split(rf"\paragraph{{$\varepsilon^{{{n}}}$}}")[1].split(r"\end{align*}")[0]
+    rows = block.split("\\\\\n")
+    end = next(i for i, row in enumerate(rows) if row.startswith(rf"b_{{{n}}} &="))
+    return rows[1:end]
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+def test_latex_split_of_the_right_side_reads_as_one_sum(n):
+    # Regression: the harmonic-by-harmonic split was printed as continuation lines
+    # without "=", which renders as the terms added a second time to the right side.
+    series = derive(4)
+    rows = split_rows(latex_report(series), n)
+    assert len(rows) == len(series.harmonics(n))
+    assert rows[0].startswith("&= ")  # the split is equal to the right side above it
+    for row in rows[1:]:  # and each further harmonic continues that sum
+        assert row.startswith(r"&\phantom{=}\quad ")
+        assert row.split(r"\quad ", 1)[1][0] in "+-"
+        assert "=" not in row.replace(r"\phantom{=}", "")
+
+
 def test_json_expressions_read_back_and_match_the_compiled_values():
     """Evaluate each JSON amplitude/phase from the compiled lower-order values."""
     data = series_json(derive(4))
-    values = eq26_values()
-    A0, omega, Omega = 8e-8, 0.96 * values.omega0, 0.49 * values.omega0
-    env = compile_series(4).evaluate(A0, omega, Omega, values.c, values.h)
-    T1 = 1 / (omega**2 - Omega**2 + 2j * values.c * Omega)
+    values = eq26_numbers()
+    c, h = values.c_per_s, values.h_per_m_s2
+    A0, omega, Omega = 8e-8, 0.96 * values.omega0_rad_s, 0.49 * values.omega0_rad_s
+    env = compile_series(4).evaluate(A0, omega, Omega, c, h)
+    T1 = 1 / (omega**2 - Omega**2 + 2j * c * Omega)
     G = A0 / abs(T1)
     phi0 = np.angle(T1)
-    known = {"c": values.c, "h": values.h, "omega": omega, "Omega": Omega, "G": G}
+    known = {"c": c, "h": h, "omega": omega, "Omega": Omega, "G": G}
     for n in (2, 4):
         known[f"b_{n}"] = float(env[f"b_{n}"])
     for term in data["terms"]:
@@ -112,11 +140,15 @@ def test_cli_response_json(tmp_path):
 @pytest.mark.parametrize(
     "args, message",
     [
-        (["derive", "--order", "-1"], "`--order` must be an integer >= 0, got '-1'"),
-        (["backbone", "--order", "2.5"], "`--order` must be an integer >= 0, got '2.5'"),
-        (["response", "--pa-frac", "-0.1"], "`--pa-frac` must be >= 0, got -0.1"),
-        (["response", "--pa-frac", "0.1", "--fmin", "900", "--fmax", "800"], "`--fmax` must be >"),
-        (["response", "--pa-frac", "0.1", "--points", "0"], "`--points` must be >= 1, got 0"),
+        (["derive", "--order", "-1"], "argument --order: must be an integer >= 0, got '-1'"),
+        (["backbone", "--order", "2.5"], "argument --order: must be an integer, got '2.5'"),
+        (["response", "--pa-frac", "-0.1"], "argument --pa-frac: must be a finite number >= 0"),
+        (["response", "--pa-frac", "nan"], "argument --pa-frac: must be finite"),
+        (["response", "--pa-frac", "0.1", "--fmin", "0"], "argument --fmin: must be a finite"),
+        (["response", "--pa-frac", "0.1", "--fmin", "900", "--fmax", "800"],
+         "argument --fmax: must be above --fmin"),
+        (["response", "--pa-frac", "0.1", "--points", "0"],
+         "argument --points: must be an integer >= 1, got '0'"),
     ],
 )
 def test_cli_rejects_bad_input(args, message, capsys):

@@ -11,10 +11,16 @@ import numpy as np
 import pytest
 
 from numerics import simulate
-from perturb import EQ_2_6, PAPER_F_N0_HZ, ContactModel, compile_series, frequency_response
-from perturb._response import eq26_values
+from perturb import (
+    EQ_2_6,
+    PAPER_F_N0_HZ,
+    ContactModel,
+    compile_series,
+    eq26_numbers,
+    frequency_response,
+)
 
-VALUES = eq26_values()
+VALUES = eq26_numbers()
 PA_FRAC = 0.05
 # Away from the peaks; on the primary peak (1440-1480 Hz: one response; 1420 Hz:
 # on the bent part, three); on the 1/2 superharmonic peak near f_n0 / 2.
@@ -42,7 +48,7 @@ def rk4(superharmonic_peak_hz):
         record=("final", "minmax"),
     )
     assert not np.any(res.failed)
-    return dict(zip(f.tolist(), (res.ymax - res.ymin).tolist()))
+    return dict(zip(f.tolist(), res.app_m.tolist()))
 
 
 def closest_branch_app(response, f_hz, target):
@@ -114,21 +120,39 @@ def test_contact_loss_is_flagged():
     assert any(np.any(VALUES.y0_m + b.u_min_m <= 0) for b in response.branches)
 
 
-def test_json_shape():
-    data = frequency_response(np.array([500.0, 1420.0]), PA_FRAC, 4).as_json()
-    assert set(data) == {"order", "pa_frac", "branches"}
+def test_json_keeps_the_landed_keys():
+    data = frequency_response(np.array([500.0, 1420.0]), PA_FRAC, 4).as_dict()
+    assert {"order", "pa_frac", "branches"} <= set(data)
+    assert {"kind", "model", "settings", "elapsed_s"} <= set(data)
     keys = {"frequency_hz", "app_m", "a0_m", "omega_rad_s", "valid"}
-    assert all(set(branch) == keys for branch in data["branches"])
+    assert all(keys <= set(branch) for branch in data["branches"])
+    assert data["model"]["effects"] == {"contact_loss": False, "spring": "taylor",
+                                        "taylor_degree": 2, "damping": "linear",
+                                        "gravity": True}
 
 
 @pytest.mark.parametrize(
     "kwargs, message",
     [
-        ({"frequencies_hz": [100.0], "pa_frac": -0.1}, "`pa_frac`"),
-        ({"frequencies_hz": [200.0, 100.0], "pa_frac": 0.1}, "`frequencies_hz`"),
-        ({"frequencies_hz": [], "pa_frac": 0.1}, "`frequencies_hz`"),
-        ({"frequencies_hz": [100.0], "pa_frac": 0.1, "order": -2}, "`order`"),
-        ({"frequencies_hz": [100.0], "pa_frac": 0.1, "omega_range": (1.2, 0.6)}, "`omega_range`"),
+        ({"frequency_hz": [100.0], "pa_frac": -0.1}, "`pa_frac`"),
+        ({"frequency_hz": [100.0], "pa_frac": [0.1, 0.2]}, "`pa_frac`"),
+        ({"frequency_hz": [100.0], "pa_frac": "0.1"}, "`pa_frac`"),
+        ({"frequency_hz": [200.0, 100.0], "pa_frac": 0.1}, "`frequency_hz`"),
+        ({"frequency_hz": [], "pa_frac": 0.1}, "`frequency_hz`"),
+        ({"frequency_hz": [[100.0, 200.0]], "pa_frac": 0.1}, "`frequency_hz`"),
+        ({"frequency_hz": [0.0, 100.0], "pa_frac": 0.1}, "`frequency_hz`"),
+        ({"frequency_hz": ["a"], "pa_frac": 0.1}, "`frequency_hz`"),
+        ({"frequency_hz": [100.0], "pa_frac": 0.1, "order": -2}, "`order`"),
+        ({"frequency_hz": [100.0], "pa_frac": 0.1, "order": 2.5}, "`order`"),
+        ({"frequency_hz": [100.0], "pa_frac": 0.1, "order": "6"}, "`order`"),
+        ({"frequency_hz": [100.0], "pa_frac": 0.1, "omega_range": (1.2, 0.6)}, "`omega_range`"),
+        ({"frequency_hz": [100.0], "pa_frac": 0.1, "omega_range": (0.6,)}, "`omega_range`"),
+        ({"frequency_hz": [100.0], "pa_frac": 0.1, "omega_range": 0.6}, "`omega_range`"),
+        ({"frequency_hz": [100.0], "pa_frac": 0.1, "omega_range": (0.0, 1.2)}, "`omega_range`"),
+        ({"frequency_hz": [100.0], "pa_frac": 0.1, "grid_points": 1}, "`grid_points`"),
+        ({"frequency_hz": [100.0], "pa_frac": 0.1, "samples": 2}, "`samples`"),
+        ({"frequency_hz": [100.0], "pa_frac": 0.1, "tolerance": 0.0}, "`tolerance`"),
+        ({"frequency_hz": [100.0], "pa_frac": 0.1, "parameters": {"M": 1.0}}, "`parameters`"),
     ],
 )
 def test_bad_input(kwargs, message):
@@ -149,7 +173,7 @@ def test_valid_points_are_accurate_where_the_series_converges_slowly():
         model=ContactModel(effects=EQ_2_6),
         record=("final", "minmax"),
     )
-    target = dict(zip(f.tolist(), (res.ymax - res.ymin).tolist()))
+    target = dict(zip(f.tolist(), res.app_m.tolist()))
     response = frequency_response(f, 0.15, 6)
     flags = []
     for fi in f:
@@ -186,9 +210,10 @@ def series_states(response):
     states = []
     for b in response.branches:
         Omega = 2 * np.pi * b.frequency_hz
-        theta_1 = -np.angle(b.omega_rad_s**2 - Omega**2 + 2j * VALUES.c * Omega)
+        theta_1 = -np.angle(b.omega_rad_s**2 - Omega**2 + 2j * VALUES.c_per_s * Omega)
         for f, t1, a0, w, W in zip(b.frequency_hz, theta_1, b.a0_m, b.omega_rad_s, Omega):
-            u = formulas.waveform(np.array([t1, t1 + step]), a0, w, W, VALUES.c, VALUES.h)
+            u = formulas.waveform(np.array([t1, t1 + step]), a0, w, W, VALUES.c_per_s,
+                                  VALUES.h_per_m_s2)
             states.append((f, VALUES.y0_m + u[0], W * (u[1] - u[0]) / step))
     return states
 
@@ -198,14 +223,14 @@ def attractors(pa_frac, frequencies):
     starts = [(f, VALUES.y0_m, 0.0) for f in frequencies]
     starts += series_states(frequency_response(np.array(frequencies), pa_frac, 6))
     f, y, v = map(np.array, zip(*starts))
-    run = simulate(f, pa_frac * VALUES.Q_n, periods=600, steps_per_period=256, y_init=y,
-                   v_init=v, model=ContactModel(effects=EQ_2_6), record=("final", "minmax"))
+    run = simulate(f, pa_frac * VALUES.Q_n, periods=600, steps_per_period=256, y_init_m=y,
+                   v_init_m_s=v, model=ContactModel(effects=EQ_2_6), record=("final", "minmax"))
     assert not np.any(run.failed)
-    return f, run.ymax - run.ymin
+    return f, run.app_m
 
 
 # Regression: the old flag (u_N and u_(N-1) below 1 % of App) ignored the
-# left-out b_(N+1) that the resonance amplifies (zero at odd N): order 3 at
+# left-out b_(N+1) that the resonance amplifies (zero at even N): order 3 at
 # 0.05 Q was flagged valid 3.3 % off RK4 at 1420 Hz, 1-1.7 % off at 1445-1470 Hz;
 # 2.1 % at 1455 Hz, 0.10 Q; 2.5 % at 1330 Hz, 0.15 Q; order 5 1.1 % at 1395 Hz,
 # 0.10 Q; order 0 everything (28 % off at 1420 Hz). Order 2 was too strict.
@@ -216,10 +241,18 @@ HONESTY_CASES = {
 }
 
 
+# How many valid points (orders 0, 2, 3, 5, even branches) the test below compares
+# with RK4 at least; measured: 23 at 0.05 Q (2, 5, 5, 11 by order), 3 at 0.10 Q
+# (0, 0, 1, 2), 1 at 0.15 Q (0, 0, 0, 1). Without a floor the test would pass
+# with no valid point at all.
+VALID_FLOOR = {0.05: 22, 0.10: 3, 0.15: 1}
+
+
 @pytest.mark.parametrize("pa_frac", sorted(HONESTY_CASES))
 def test_valid_points_are_within_one_percent_of_rk4(pa_frac):
     frequencies = HONESTY_CASES[pa_frac]
     f, app = attractors(pa_frac, frequencies)
+    compared = 0
     for order in (0, 2, 3, 5):
         response = frequency_response(np.array(frequencies), pa_frac, order)
         # Roots alternate stable, unstable along a bent peak (branch j by decreasing
@@ -228,6 +261,8 @@ def test_valid_points_are_within_one_percent_of_rk4(pa_frac):
             for fi, a, valid in zip(branch.frequency_hz, branch.app_m, branch.valid):
                 error = np.min(np.abs(a / app[f == fi] - 1))
                 assert not valid or error < 0.01, f"order {order}, {fi} Hz: {error:.2%} off"
+                compared += bool(valid)
+    assert compared >= VALID_FLOOR[pa_frac], compared
     if pa_frac == 0.05:
         # Order 2 is accurate (< 1 %) at five of these and must say so (old: one).
         response = frequency_response(np.array(frequencies), pa_frac, 2)
@@ -250,4 +285,4 @@ def test_no_force_is_rest(order):
         response = frequency_response(np.array([500.0, 1485.0]), 0.0, order)
     (branch,) = response.branches
     assert branch.app_m.tolist() == [0.0, 0.0] and branch.valid.all()
-    assert branch.omega_rad_s.tolist() == [VALUES.omega0] * 2
+    assert branch.omega_rad_s.tolist() == [VALUES.omega0_rad_s] * 2

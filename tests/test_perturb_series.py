@@ -151,8 +151,14 @@ def test_derive_rejects_bad_order(bad):
 def test_series_summary_and_missing_harmonic():
     series = derive(2)
     assert "Series(order=2" in repr(series)
-    with pytest.raises(ValueError, match="`n` must be in 0..2"):
+    with pytest.raises(ValueError, match="`n` must be an integer <= 2, got 3"):
         series.harmonics(3)
+    with pytest.raises(ValueError, match="`n`"):
+        series.has_b("1")
+    with pytest.raises(KeyError, match=r"no harmonic k=1 at order n=1; available: \[0, 2\]"):
+        series.forcing_closed_form(1, 1)
+    with pytest.raises(KeyError, match=r"available: \[1\]"):
+        series.solution_closed_form(0, 3)
 
 
 def test_series_is_derived_for_the_models_eq26():

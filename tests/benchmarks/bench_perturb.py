@@ -32,9 +32,10 @@ from perturb import (
     compile_series,
     derive,
     frequency_response,
+    eq26_numbers,
     series_json,
 )
-from perturb._response import eq26_values
+from perturb._backbone_series import _exact_series
 
 from ._timing import header, median_time, row
 
@@ -64,7 +65,7 @@ def sympy_backbone(order: int) -> list[sp.Rational]:
 def bench_backbone() -> None:
     header("backbone series omega/omega0(alpha), exact rationals (targets: 1 s, 5 s)")
     for order in (8, 16):
-        ours = median_time(lambda n=order: backbone_series.__wrapped__(n), repeats=5)
+        ours = median_time(lambda n=order: _exact_series.__wrapped__(n), repeats=5)
         start = time.perf_counter()
         reference = sympy_backbone(order)
         baseline = time.perf_counter() - start
@@ -138,19 +139,20 @@ def _accuracy(frequencies_hz) -> float:
     that both attractors of the bent primary peak are found; each root is held
     against the nearest attractor of its frequency.
     """
-    values = eq26_values()
+    values = eq26_numbers()
     response = frequency_response(np.array(frequencies_hz), 0.05, 6)
     formulas = compile_series(6)
     starts = [(f, values.y0_m, 0.0) for f in frequencies_hz]
     for b in response.branches:
         Omega = 2 * np.pi * b.frequency_hz
-        theta_1 = -np.angle(b.omega_rad_s**2 - Omega**2 + 2j * values.c * Omega)
+        theta_1 = -np.angle(b.omega_rad_s**2 - Omega**2 + 2j * values.c_per_s * Omega)
         for f, t1, a0, w, W in zip(b.frequency_hz, theta_1, b.a0_m, b.omega_rad_s, Omega):
-            u = formulas.waveform(np.array([t1, t1 + 1e-6]), a0, w, W, values.c, values.h)
+            u = formulas.waveform(np.array([t1, t1 + 1e-6]), a0, w, W, values.c_per_s,
+                                  values.h_per_m_s2)
             starts.append((f, values.y0_m + u[0], W * (u[1] - u[0]) / 1e-6))
     f, y, v = map(np.array, zip(*starts))
-    rk4 = simulate(f, 0.05 * values.Q_n, periods=800, steps_per_period=256, y_init_m=y, v_init_m_s=v,
-                   model=ContactModel(effects=EQ_2_6), record=("final", "minmax"))
+    rk4 = simulate(f, 0.05 * values.Q_n, periods=800, steps_per_period=256, y_init_m=y,
+                   v_init_m_s=v, model=ContactModel(effects=EQ_2_6), record=("final", "minmax"))
     target = rk4.ymax_m - rk4.ymin_m
     errors = [
         np.min(np.abs(app / target[f == fi] - 1))

@@ -27,12 +27,13 @@ parabola, in closed form.
 
 from __future__ import annotations
 
+import math
 import time
-from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import brentq
 
+from common import Result, check_int, check_pair, lane_array, result
 from perturb import ContactModel
 
 from . import _chebyshev as cheb
@@ -45,8 +46,8 @@ _GAUSS_T, _GAUSS_W = np.polynomial.legendre.leggauss(16)
 _GAUSS_T, _GAUSS_W = (_GAUSS_T + 1) / 2, _GAUSS_W / 2
 
 
-@dataclass
-class Backbone:
+@result
+class Backbone(Result):
     """Frequency of free oscillation of the conservative model against amplitude.
 
     Attributes
@@ -68,10 +69,14 @@ class Backbone:
         Static deflection and the small-amplitude limit of the frequency.
     contact_loss_app_m : float
         A_pp at which contact is first lost (y_min = 0).
-    model : str
-        The model the backbone belongs to.
-    nodes : int
-        Chebyshev-Lobatto nodes per period integral.
+    model : dict
+        The model the backbone belongs to (``ContactModel.as_dict()``).
+    settings : dict
+        ``points``, ``nodes`` (Chebyshev-Lobatto intervals per period
+        integral) and ``app_range_m`` (None when the levels were given or
+        defaulted).
+    elapsed_s : float
+        Wall time [s].
     """
 
     u_max_m: np.ndarray
@@ -84,28 +89,37 @@ class Backbone:
     y0_m: float
     f_n0_hz: float
     contact_loss_app_m: float
-    model: str
-    nodes: int
-    elapsed_s: float = field(default=0.0, compare=False)
+    model: dict
+    settings: dict
+    elapsed_s: float = 0.0
 
-    def as_json(self) -> dict:
-        """The keys of `python -m numerics backbone --json`."""
-        return {
-            "app_m": self.app_m.tolist(),
-            "a1_m": self.a1_m.tolist(),
-            "frequency_hz": self.frequency_hz.tolist(),
-            "contact_lost": self.contact_lost.tolist(),
-            "ymin_m": self.ymin_m.tolist(),
-            "ymax_m": self.ymax_m.tolist(),
-        }
-
-    def __str__(self) -> str:
+    def summary(self) -> str:
         return (
             f"Backbone: {self.app_m.size} points, A_pp {self.app_m.min():.3g}..."
             f"{self.app_m.max():.3g} m, f {self.frequency_hz.min():.6g}..."
             f"{self.frequency_hz.max():.6g} Hz, contact lost above A_pp = "
-            f"{self.contact_loss_app_m:.4g} m, {self.elapsed_s:.3g} s [{self.model}]"
+            f"{self.contact_loss_app_m:.4g} m, {self.elapsed_s:.3g} s"
         )
+
+    def table(self, rows: int = 12) -> str:
+        """At most ``rows`` levels, evenly picked: A_pp, a1, frequency, contact lost.
+
+        Examples
+        --------
+        >>> print(exact_backbone([1e-9, 4e-7]).table(rows=2))
+              A_pp [nm]      a1 [nm]       f [Hz]  contact lost
+                2.00148      1.00074     1485.588  no
+                1606.29      737.992      801.872  yes
+        """
+        rows = check_int("rows", rows)
+        picked = np.unique(np.linspace(0, self.app_m.size - 1, rows).round().astype(int))
+        lines = [f"{'A_pp [nm]':>15}{'a1 [nm]':>13}{'f [Hz]':>13}  contact lost"]
+        for i in picked:
+            lines.append(
+                f"{self.app_m[i] * 1e9:>15.6g}{self.a1_m[i] * 1e9:>13.6g}"
+                f"{self.frequency_hz[i]:>13.3f}  {'yes' if self.contact_lost[i] else 'no'}"
+            )
+        return "\n".join(lines)
 
 
 def _edge_mean(r: Restoring, edge: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -190,11 +204,19 @@ def _in_contact(r: Restoring, upper: np.ndarray, nodes: int) -> tuple[np.ndarray
     return half_period, _fundamental(s, elapsed, rate, half_period), lower
 
 
+def _take_off(r: Restoring, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Speed v0 at the contact edge and the top of the flight s- (for s+ past contact loss).
+
+    The slider leaves the edge at v0, v0^2 / 2 = D(s+) - D(-1), and flies under
+    its weight alone (sigma'' = 1) up to s- = -1 - v0^2 / 2.
+    """
+    v0 = np.sqrt(2 * (upper + 1) * _mean_force(r, -1.0, upper))
+    return v0, -1 - v0**2 / 2
+
+
 def _bouncing(r: Restoring, upper: np.ndarray, nodes: int) -> tuple[np.ndarray, ...]:
     """Half period, fundamental and s- for levels where the slider flies (s- < -1)."""
-    # The slider leaves the edge at speed v0 and flies under its weight: sigma'' = 1.
-    v0 = np.sqrt(2 * (upper + 1) * _mean_force(r, -1.0, upper))
-    lower = -1 - v0**2 / 2
+    v0, lower = _take_off(r, upper)
     edge = np.arcsin(np.clip((-1 - (upper + lower) / 2) / ((upper - lower) / 2), -1, 1))
     s, elapsed, rate, contact_time = _arc(r, lower, upper, edge, nodes)
     # Free flight from the edge up to s- and back: a parabola in closed form.
@@ -207,22 +229,54 @@ def _bouncing(r: Restoring, upper: np.ndarray, nodes: int) -> tuple[np.ndarray, 
     return half_period, first + second, lower
 
 
-def _default_compressions(y0: float, points: int) -> np.ndarray:
-    """u_max from 1e-6 y0 to 3 y0: linear vibrations up to bouncing of about 20 y0."""
-    return y0 * np.geomspace(1e-6, 3.0, points)
+def _peak_to_peak(r: Restoring, upper: float, loss: float) -> float:
+    """A_pp / y0 = s+ - s- of the level s+: the turning points only, no period integral."""
+    level = np.array([upper])
+    lower = _take_off(r, level)[1] if upper > loss else _lower_turning_point(r, level)
+    return float(upper - lower[0])
 
 
-def _check_compressions(u_max_m) -> np.ndarray:
-    u = np.atleast_1d(np.asarray(u_max_m, dtype=float))
-    if u.ndim != 1 or u.size == 0 or not np.all(np.isfinite(u) & (u > 0)):
-        raise ValueError(
-            f"`u_max_m` must be a non-empty 1-d array of finite values > 0, got {u_max_m!r}."
-        )
-    return u
+def _compression_for(r: Restoring, app: float, loss: float) -> float:
+    """s+ whose A_pp / y0 is ``app``, by brentq on log A_pp against log s+.
+
+    A_pp grows monotonically with the level, and A_pp > s+ (s- < 0), so the
+    root lies below s+ = app; it is bracketed from below by halving.
+    """
+    def excess(log_upper: float) -> float:
+        return math.log(_peak_to_peak(r, math.exp(log_upper), loss) / app)
+
+    hi = math.log(app)
+    lo = hi - math.log(2)
+    while excess(lo) >= 0:
+        lo -= math.log(2)
+    return math.exp(brentq(excess, lo, hi, xtol=1e-15, rtol=1e-15))
+
+
+def _compressions(r: Restoring, u_max_m, app_range_m, points: int) -> np.ndarray:
+    """The levels u_max = y_max - y0 [m] asked for: given, defaulted or from an A_pp range."""
+    y0 = r.y0_m
+    if u_max_m is not None:
+        if app_range_m is not None:
+            raise ValueError(
+                f"give `u_max_m` or `app_range_m`, not both; got `app_range_m` = {app_range_m!r}."
+            )
+        return lane_array("u_max_m", u_max_m, positive=True)
+    if app_range_m is None:
+        # From linear vibrations (1e-6 y0) up to bouncing of about 20 y0.
+        return y0 * np.geomspace(1e-6, 3.0, points)
+    lo, hi = check_pair("app_range_m", app_range_m, positive=True)
+    loss = contact_loss_compression(r)
+    ends = [_compression_for(r, app / y0, loss) for app in (lo, hi)]
+    return y0 * (np.geomspace(*ends, points) if points > 1 else np.array(ends[:1]))
 
 
 def exact_backbone(
-    u_max_m=None, *, model: ContactModel | None = None, points: int = 200, nodes: int = 48
+    u_max_m=None,
+    *,
+    app_range_m: tuple[float, float] | None = None,
+    model: ContactModel | None = None,
+    points: int = 200,
+    nodes: int = 48,
 ) -> Backbone:
     """Frequency of the free, undamped oscillation against its amplitude.
 
@@ -231,12 +285,19 @@ def exact_backbone(
     u_max_m : array_like, shape (points,), optional
         Energy levels, given as the largest compression beyond the static
         deflection, y_max - y0 [m] (> 0). By default ``points`` values,
-        log-spaced from 1e-6 y0 to 3 y0.
+        log-spaced from 1e-6 y0 to 3 y0 (A_pp from 0.45 pm to 4.8 um for the
+        paper's model).
+    app_range_m : (float, float), optional
+        (lo, hi), 0 < lo < hi: instead of ``u_max_m``, ``points`` levels that
+        run from A_pp = lo to A_pp = hi [m], log-spaced in u_max between the
+        two compressions that give them (found by brentq on the exact A_pp,
+        which grows monotonically with u_max). Covers the bouncing branches of
+        Fig. 2 (A_pp up to 25 um and beyond).
     model : ContactModel, optional
         The model (power-law spring with gravity and contact loss; damping
         is dropped). The paper's by default.
     points : int
-        Number of default levels (ignored when ``u_max_m`` is given).
+        Number of levels, >= 1 (ignored when ``u_max_m`` is given).
     nodes : int
         Chebyshev-Lobatto intervals per period integral, at least 8.
 
@@ -253,29 +314,35 @@ def exact_backbone(
     (['0.0', '217.9', '12089.4'], [False, False, True])
     >>> f"{b.contact_loss_app_m * 1e9:.1f} nm"  # sqrt(3) y0 for m2 = 2
     '390.0 nm'
+    >>> wide = exact_backbone(app_range_m=(1e-8, 2.5e-5), points=5)
+    >>> [f"{a * 1e6:.4g}" for a in wide.app_m[[0, -1]]], wide.contact_lost[[0, -1]].tolist()
+    (['0.01', '25'], [False, True])
     """
     start = time.perf_counter()
     model = ContactModel() if model is None else model
-    if isinstance(points, bool) or int(points) != points or points < 1:
-        raise ValueError(f"`points` must be an integer >= 1, got {points!r}.")
-    if isinstance(nodes, bool) or int(nodes) != nodes or nodes < 8:
-        raise ValueError(f"`nodes` must be an integer >= 8, got {nodes!r}.")
+    points = check_int("points", points, 1)
+    nodes = check_int("nodes", nodes, 8)
     r = restoring_force(model)
     y0 = r.y0_m
-    u = _default_compressions(y0, int(points)) if u_max_m is None else _check_compressions(u_max_m)
+    u = _compressions(r, u_max_m, app_range_m, points)
     upper = u / y0
     loss = contact_loss_compression(r)
     flies = upper > loss
     half, a1, lower = (np.empty_like(upper) for _ in range(3))
     for mask, regime in ((~flies, _in_contact), (flies, _bouncing)):
         if mask.any():
-            half[mask], a1[mask], lower[mask] = regime(r, upper[mask], int(nodes))
+            half[mask], a1[mask], lower[mask] = regime(r, upper[mask], nodes)
     frequency = 1 / (2 * half * r.time_unit_s)
     (half0,), _, _ = _in_contact(r, np.array([1e-9]), 8)
+    settings = {
+        "points": int(u.size), "nodes": nodes,
+        "app_range_m": None if app_range_m is None else list(check_pair("app_range_m",
+                                                                         app_range_m)),
+    }
     return Backbone(
         u_max_m=u, ymin_m=y0 * (1 + lower), ymax_m=y0 * (1 + upper),
         app_m=y0 * (upper - lower), a1_m=y0 * np.abs(a1), frequency_hz=frequency,
         contact_lost=flies, y0_m=y0, f_n0_hz=1 / (2 * half0 * r.time_unit_s),
-        contact_loss_app_m=y0 * (loss + 1), model=repr(model), nodes=int(nodes),
+        contact_loss_app_m=y0 * (loss + 1), model=model.as_dict(), settings=settings,
         elapsed_s=time.perf_counter() - start,
     )

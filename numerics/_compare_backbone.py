@@ -12,19 +12,20 @@ the series of Eq. 2.6 knows nothing of, and orders 4 and 6 come back within
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import time
 
 import numpy as np
 
-from perturb import ContactModel, Eq26, backbone_series
+from common import Result, check_int, check_positive, result
+from perturb import ContactModel, backbone_series, eq26_numbers
 
 from ._backbone import exact_backbone
 
 __all__ = ["BackboneComparison", "compare_backbones", "validity_limit"]
 
 
-@dataclass
-class BackboneComparison:
+@result
+class BackboneComparison(Result):
     """Series backbones of several orders against the exact one.
 
     Attributes
@@ -33,7 +34,7 @@ class BackboneComparison:
     a1_m, app_m, exact_hz : ndarray, shape (points,)
         The exact backbone: fundamental amplitude, A_pp and frequency.
     contact_lost : ndarray of bool, shape (points,)
-    series_hz, error : ndarray, shape (orders, points)
+    series_hz, relative_error : ndarray, shape (orders, points)
         The series' frequency at each a1 and |f_series / f_exact - 1|.
     limit_a1_m, limit_app_m : ndarray, shape (orders,)
         The amplitude up to which each order holds: within ``tolerance`` and
@@ -44,6 +45,12 @@ class BackboneComparison:
     contact_loss_app_m : float
         A_pp at which contact is first lost.
     tolerance : float
+    model : dict
+        The full model whose exact backbone is the reference (``ContactModel.as_dict()``).
+    settings : dict
+        ``points``: levels of the exact backbone.
+    elapsed_s : float
+        Wall time [s].
     """
 
     orders: tuple[int, ...]
@@ -52,33 +59,47 @@ class BackboneComparison:
     exact_hz: np.ndarray
     contact_lost: np.ndarray
     series_hz: np.ndarray
-    error: np.ndarray
+    relative_error: np.ndarray
     limit_a1_m: np.ndarray
     limit_app_m: np.ndarray
     crossing_a1_m: np.ndarray
     crossing_app_m: np.ndarray
     contact_loss_app_m: float
     tolerance: float
+    model: dict
+    settings: dict
+    elapsed_s: float = 0.0
 
     @property
     def capped(self) -> np.ndarray:
         """Orders whose limit is contact loss rather than their 1 % crossing."""
         return self.crossing_app_m > self.limit_app_m
 
-    def as_json(self) -> dict:
-        return {
-            "orders": list(self.orders),
-            "a1_m": self.a1_m.tolist(),
-            "app_m": self.app_m.tolist(),
-            "exact_hz": self.exact_hz.tolist(),
-            "series_hz": self.series_hz.tolist(),
-            "limit_a1_m": self.limit_a1_m.tolist(),
-            "limit_app_m": self.limit_app_m.tolist(),
-            "crossing_a1_m": self.crossing_a1_m.tolist(),
-            "crossing_app_m": self.crossing_app_m.tolist(),
-            "contact_loss_app_m": self.contact_loss_app_m,
-            "tolerance": self.tolerance,
-        }
+    def summary(self) -> str:
+        limits = ", ".join(f"{a * 1e9:.0f}" for a in self.limit_app_m)
+        return (
+            f"BackboneComparison: orders {list(self.orders)} hold within {self.tolerance:g} up "
+            f"to A_pp = {limits} nm (contact lost at {self.contact_loss_app_m * 1e9:.1f} nm), "
+            f"{self.elapsed_s:.3g} s"
+        )
+
+    def table(self) -> str:
+        """Per order: the limits in a1 and A_pp (* where contact loss caps it), the crossing.
+
+        Examples
+        --------
+        >>> print(compare_backbones((2, 4), points=100).table())
+         order  a1 limit [nm]  A_pp limit [nm]  A_pp crossing [nm]
+             2          169.6            365.4                365.4
+             4          185.7            390.0*               539.8
+        """
+        lines = [f"{'order':>6}{'a1 limit [nm]':>15}{'A_pp limit [nm]':>17}"
+                 f"{'A_pp crossing [nm]':>20}"]
+        for n, a1, app, cross, capped in zip(self.orders, self.limit_a1_m, self.limit_app_m,
+                                              self.crossing_app_m, self.capped):
+            mark = "*" if capped else " "
+            lines.append(f"{n:>6}{a1 * 1e9:>15.1f}{app * 1e9:>16.1f}{mark}{cross * 1e9:>20.1f}")
+        return "\n".join(lines)
 
 
 def validity_limit(amplitude: np.ndarray, error: np.ndarray, tolerance: float) -> float:
@@ -109,13 +130,13 @@ def compare_backbones(
     Parameters
     ----------
     orders : sequence of int
-        Orders N of the series (>= 0).
+        Orders N of the series (>= 0), at least one.
     model : ContactModel, optional
         The full model whose exact backbone is the reference (paper's by default).
     points : int
-        Levels of the exact backbone, log-spaced from 1e-4 y0 to 3 y0.
+        Levels of the exact backbone, log-spaced in u_max from 1e-4 y0 to 3 y0 (>= 2).
     tolerance : float
-        Relative frequency error that bounds each order's range.
+        Relative frequency error that bounds each order's range (> 0).
 
     Returns
     -------
@@ -129,14 +150,22 @@ def compare_backbones(
     >>> [f"{a * 1e9:.0f} nm" for a in result.crossing_app_m]  # order 4: past contact loss
     ['365 nm', '540 nm']
     """
+    start = time.perf_counter()
     model = ContactModel() if model is None else model
-    orders = tuple(int(n) for n in orders)
-    if not orders or min(orders) < 0:
+    if not isinstance(model, ContactModel):
+        raise ValueError(f"`model` must be a perturb.ContactModel, got {model!r}.")
+    try:
+        orders = tuple(check_int("orders", n, 0) for n in orders)
+    except TypeError:
+        raise ValueError(f"`orders` must be a sequence of integers >= 0, got {orders!r}.") from None
+    if not orders:
         raise ValueError(f"`orders` must be a non-empty sequence of integers >= 0, got {orders!r}.")
-    y0 = model.numeric(model.static_deflection)
-    exact = exact_backbone(y0 * np.geomspace(1e-4, 3.0, points), model=model)
-    coefficients = Eq26(model).numeric_coefficients()
-    alpha = coefficients["h"] / coefficients["omega0_squared"] * exact.a1_m  # Eq. 2.7's parameter
+    points = check_int("points", points, 2)
+    tolerance = check_positive("tolerance", tolerance)
+    numbers = eq26_numbers(model.parameters)
+    exact = exact_backbone(numbers.y0_m * np.geomspace(1e-4, 3.0, points), model=model)
+    # Eq. 2.7's parameter alpha = h a1 / omega0^2.
+    alpha = numbers.h_per_m_s2 / numbers.omega0_rad_s**2 * exact.a1_m
     series = np.array([exact.f_n0_hz * backbone_series(n).frequency_ratio(alpha) for n in orders])
     error = np.abs(series / exact.frequency_hz - 1)
     crossing_a1 = np.array([validity_limit(exact.a1_m, e, tolerance) for e in error])
@@ -145,8 +174,9 @@ def compare_backbones(
     loss_a1 = np.interp(loss_app, exact.app_m, exact.a1_m)
     return BackboneComparison(
         orders=orders, a1_m=exact.a1_m, app_m=exact.app_m, exact_hz=exact.frequency_hz,
-        contact_lost=exact.contact_lost, series_hz=series, error=error,
+        contact_lost=exact.contact_lost, series_hz=series, relative_error=error,
         limit_a1_m=np.minimum(crossing_a1, loss_a1), limit_app_m=np.minimum(crossing_app, loss_app),
         crossing_a1_m=crossing_a1, crossing_app_m=crossing_app,
-        contact_loss_app_m=loss_app, tolerance=tolerance,
+        contact_loss_app_m=loss_app, tolerance=tolerance, model=model.as_dict(),
+        settings={"points": points}, elapsed_s=time.perf_counter() - start,
     )

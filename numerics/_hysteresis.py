@@ -8,28 +8,28 @@ force F_d dissipates in a period, which the drive P supplies.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import time
 
 import numpy as np
 import sympy as sp
 
+from common import Result, check_int, check_positive, result
 from perturb import ContactModel
 from perturb import symbols as sym
 
 from ._simulate import simulate
-from ._validate import positive_int
 
 __all__ = ["HysteresisLoop", "hysteresis_loop"]
 
 
-@dataclass
-class HysteresisLoop:
+@result
+class HysteresisLoop(Result):
     """One steady period of the forced response, with the contact's reaction.
 
     Attributes
     ----------
-    f_e_hz, p_a_n, p_a_frac : float
-        Excitation frequency [Hz], force amplitude [N] and its fraction of Q.
+    frequency_hz, p_a_n, pa_frac : float
+        Excitation frequency [Hz], force amplitude P_a [N] and P_a / Q.
     phase : ndarray, shape (steps,)
         Phase in periods, (1..steps) / steps.
     y_m, v_m_s : ndarray, shape (steps,)
@@ -48,13 +48,17 @@ class HysteresisLoop:
     closure : float
         Mismatch of the state after this period and the one before, relative
         to the peak-to-peak range: how steady the loop is.
-    model : str
-        The model.
+    model : dict
+        The model (``ContactModel.as_dict()``).
+    settings : dict
+        ``periods`` and ``steps_per_period`` (also the points on the loop).
+    elapsed_s : float
+        Wall time [s].
     """
 
-    f_e_hz: float
+    frequency_hz: float
     p_a_n: float
-    p_a_frac: float
+    pa_frac: float
     phase: np.ndarray
     y_m: np.ndarray
     v_m_s: np.ndarray
@@ -65,15 +69,17 @@ class HysteresisLoop:
     dissipated_j: float
     drive_work_j: float
     closure: float
-    model: str
+    model: dict
+    settings: dict
+    elapsed_s: float = 0.0
 
-    def __str__(self) -> str:
+    def summary(self) -> str:
         return (
-            f"HysteresisLoop: f_e = {self.f_e_hz:g} Hz, P_a = {self.p_a_n:.4g} N, "
+            f"HysteresisLoop: f_e = {self.frequency_hz:g} Hz, P_a = {self.pa_frac:g} Q, "
             f"y {self.y_m.min() * 1e9:.1f}..{self.y_m.max() * 1e9:.1f} nm, p "
             f"{self.pressure_pa.min():.4g}..{self.pressure_pa.max():.4g} Pa, loop area "
             f"{self.loop_area_j:.4g} J, dissipated {self.dissipated_j:.4g} J, "
-            f"closure {self.closure:.1e} [{self.model}]"
+            f"closure {self.closure:.1e}, {self.elapsed_s:.3g} s"
         )
 
 
@@ -101,8 +107,8 @@ def _closure(y: np.ndarray, v: np.ndarray, steps: int) -> float:
 
 
 def hysteresis_loop(
-    f_e_hz: float,
-    p_a_frac: float,
+    frequency_hz: float,
+    pa_frac: float,
     *,
     model: ContactModel | None = None,
     periods: int = 400,
@@ -112,20 +118,25 @@ def hysteresis_loop(
 
     Parameters
     ----------
-    f_e_hz : float
-        Excitation frequency [Hz] (> 0).
-    p_a_frac : float
+    frequency_hz : float
+        Excitation frequency f_e [Hz] (> 0).
+    pa_frac : float
         Force amplitude P_a as a fraction of the weight Q (>= 0).
     model : ContactModel, optional
         The model; the paper's full model by default.
     periods : int
-        Periods run from rest at y0 before the loop is taken, the loop included.
+        Periods run from rest at y0 before the loop is taken, the loop included (>= 2).
     steps_per_period : int
-        RK4 steps per period, also the points on the loop.
+        RK4 steps per period, also the points on the loop (>= 4).
 
     Returns
     -------
     HysteresisLoop
+
+    Raises
+    ------
+    RuntimeError
+        If the run fails (its state becomes non-finite), with simulate's message.
 
     Examples
     --------
@@ -135,29 +146,31 @@ def hysteresis_loop(
     >>> f"{loop.loop_area_j / loop.dissipated_j - 1:.1e}"
     '-2.5e-05'
     """
+    start = time.perf_counter()
     model = ContactModel() if model is None else model
     if not isinstance(model, ContactModel):
         raise ValueError(f"`model` must be a perturb.ContactModel, got {model!r}.")
-    if not np.isfinite(p_a_frac) or p_a_frac < 0:
-        raise ValueError(f"`p_a_frac` must be finite and >= 0, got {p_a_frac!r}.")
-    steps = positive_int("steps_per_period", steps_per_period, minimum=4)
-    p_a = p_a_frac * model.parameters.weight_n
-    run = simulate(f_e_hz, p_a, periods=positive_int("periods", periods, minimum=2),
-                   steps_per_period=steps, model=model, record=("history",), record_periods=2,
-                   throw=True)
-    y, v = run.history_y[0, steps:], run.history_v[0, steps:]
+    frequency_hz = check_positive("frequency_hz", frequency_hz)
+    pa_frac = check_positive("pa_frac", pa_frac, allow_zero=True)
+    periods = check_int("periods", periods, 2)
+    steps = check_int("steps_per_period", steps_per_period, 4)
+    p_a = pa_frac * model.parameters.Q_n
+    run = simulate(frequency_hz, p_a, periods=periods, steps_per_period=steps, model=model,
+                   record=("history",), record_periods=2, throw=True)
+    y, v = run.history_y_m[0, steps:], run.history_v_m_s[0, steps:]
     reaction, spring = _forces(model)
     r = reaction(y, v)
     damping = r - spring(y, v)
     phase = run.history_phase[:steps]
-    dt = 1 / (steps * run.f_e_hz[0])
+    dt = 1 / (steps * frequency_hz)
     return HysteresisLoop(
-        f_e_hz=float(run.f_e_hz[0]), p_a_n=p_a, p_a_frac=float(p_a_frac), phase=phase,
-        y_m=y, v_m_s=v,
+        frequency_hz=frequency_hz, p_a_n=p_a, pa_frac=pa_frac, phase=phase, y_m=y, v_m_s=v,
         reaction_n=r, damping_n=damping, pressure_pa=-r / model.parameters.S,
         loop_area_j=_shoelace(y, r),
         # Periodic samples: the rectangle rule is the trapezoidal rule here.
         dissipated_j=-float(np.sum(damping * v)) * dt,
         drive_work_j=float(np.sum(p_a * np.cos(2 * np.pi * phase) * v)) * dt,
-        closure=_closure(run.history_y[0], run.history_v[0], steps), model=repr(model),
+        closure=_closure(run.history_y_m[0], run.history_v_m_s[0], steps),
+        model=model.as_dict(), settings={"periods": periods, "steps_per_period": steps},
+        elapsed_s=time.perf_counter() - start,
     )

@@ -8,19 +8,20 @@ omega0^2 = M^-1 S c_n m2 y0^(m2-1), evaluated as a function of M.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import time
 
 import numpy as np
 import sympy as sp
 
+from common import Result, check_int, lane_array, result
 from perturb import PAPER, PAPER_CUBE_SIDE_M, PAPER_F_N0_HZ, ContactModel, ContactParameters, Eq26
 from perturb import symbols as sym
 
 __all__ = ["HeightSweep", "natural_frequency_vs_height", "steel_density"]
 
 
-@dataclass
-class HeightSweep:
+@result
+class HeightSweep(Result):
     """Natural frequency of the linearised contact against the body's height.
 
     Attributes
@@ -31,8 +32,13 @@ class HeightSweep:
         Density of the body, from the paper's cube.
     paper_height_m, paper_f_n0_hz : float
         The paper's body (the 30 mm cube) and the natural frequency it reports.
-    model : str
-        The contact the bodies stand on.
+    model : dict
+        The contact the bodies stand on (``ContactModel.as_dict()``); its
+        ``M`` is the parameter set's, replaced by ``mass_kg`` point by point.
+    settings : dict
+        ``points``: the number of heights.
+    elapsed_s : float
+        Wall time [s].
     """
 
     height_m: np.ndarray
@@ -41,13 +47,16 @@ class HeightSweep:
     density_kg_m3: float
     paper_height_m: float
     paper_f_n0_hz: float
-    model: str
+    model: dict
+    settings: dict
+    elapsed_s: float = 0.0
 
-    def __str__(self) -> str:
+    def summary(self) -> str:
         return (
-            f"HeightSweep: h_b {self.height_m.min() * 1e3:g}..{self.height_m.max() * 1e3:g} mm, "
-            f"f_n0 {self.f_n0_hz.max():.6g}..{self.f_n0_hz.min():.6g} Hz, "
-            f"rho = {self.density_kg_m3:.6g} kg/m^3 [{self.model}]"
+            f"HeightSweep: {self.height_m.size} heights, h_b {self.height_m.min() * 1e3:g}.."
+            f"{self.height_m.max() * 1e3:g} mm, f_n0 {self.f_n0_hz.max():.6g}.."
+            f"{self.f_n0_hz.min():.6g} Hz, rho = {self.density_kg_m3:.6g} kg/m^3, "
+            f"{self.elapsed_s:.3g} s"
         )
 
 
@@ -84,7 +93,7 @@ def natural_frequency_vs_height(
     parameters : ContactParameters
         The contact (its S, c_n, m2, g); its M is replaced by rho S h_b.
     points : int
-        Number of default heights.
+        Number of default heights, >= 2 (ignored when ``height_m`` is given).
 
     Returns
     -------
@@ -96,20 +105,18 @@ def natural_frequency_vs_height(
     >>> [round(f) for f in sweep.f_n0_hz]
     [1955, 1486, 1099]
     """
-    if isinstance(points, bool) or int(points) != points or points < 2:
-        raise ValueError(f"`points` must be an integer >= 2, got {points!r}.")
+    start = time.perf_counter()
+    if not isinstance(parameters, ContactParameters):
+        raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
+    points = check_int("points", points, 2)
     if height_m is None:
-        height_m = np.linspace(0.005, 0.15, int(points))
-    heights = np.atleast_1d(np.asarray(height_m, dtype=float))
-    if heights.ndim != 1 or heights.size == 0 or not np.all(np.isfinite(heights) & (heights > 0)):
-        raise ValueError(
-            f"`height_m` must be a non-empty 1-d array of values > 0, got {height_m!r}."
-        )
+        height_m = np.linspace(0.005, 0.15, points)
+    heights = lane_array("height_m", height_m, positive=True)
     density = steel_density()
     mass = density * parameters.S * heights
     return HeightSweep(
         height_m=heights, mass_kg=mass, f_n0_hz=_f_n0_of_mass(parameters)(mass),
         density_kg_m3=density, paper_height_m=PAPER_CUBE_SIDE_M,
-        paper_f_n0_hz=PAPER_F_N0_HZ, model=repr(ContactModel(parameters)),
+        paper_f_n0_hz=PAPER_F_N0_HZ, model=ContactModel(parameters).as_dict(),
+        settings={"points": int(heights.size)}, elapsed_s=time.perf_counter() - start,
     )
-

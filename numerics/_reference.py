@@ -14,6 +14,7 @@ import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
 
+from common import check_int, check_positive, check_real
 from perturb import ContactModel, symbols
 
 __all__ = ["reference_last_period"]
@@ -35,37 +36,62 @@ def _crossing(t, state, *args):
 _crossing.terminal = True
 
 
-def reference_last_period(model: ContactModel, f_e: float, p_a: float, y: float, v: float,
-                          periods: int, *, rtol: float = 1e-10, samples: int = 20001):
-    """y over the last of ``periods`` periods from (y, v) at phase 0: (phase, y).
+def reference_last_period(model: ContactModel, frequency_hz: float, p_a_n: float,
+                          y_init_m: float, v_init_m_s: float, periods: int, *,
+                          rtol: float = 1e-10, samples: int = 20001):
+    """y over the last of ``periods`` periods from (y, v) at phase 0: (phase, y_m).
 
     ``samples`` points per period sample the dense output (extrema to ~(pi/samples)^2).
+
+    Raises
+    ------
+    ValueError
+        For bad input, naming the argument.
+    RuntimeError
+        If ``solve_ivp`` fails (its message, and where it stopped), instead of
+        returning a period it did not integrate.
     """
+    if not isinstance(model, ContactModel):
+        raise ValueError(f"`model` must be a perturb.ContactModel, got {model!r}.")
+    frequency_hz = check_positive("frequency_hz", frequency_hz)
+    p_a_n = check_positive("p_a_n", p_a_n, allow_zero=True)
+    y_init_m, v_init_m_s = check_real("y_init_m", y_init_m), check_real("v_init_m_s", v_init_m_s)
+    periods = check_int("periods", periods)
+    rtol = check_positive("rtol", rtol)
+    samples = check_int("samples", samples, 2)
     accel = _rhs(model.parameters, model.effects)
-    omega = 2 * np.pi * f_e
+    omega = 2 * np.pi * frequency_hz
 
     def rhs(t, state):
-        return (state[1], accel(state[0], state[1], p_a * np.cos(omega * t)))
+        return (state[1], accel(state[0], state[1], p_a_n * np.cos(omega * t)))
 
-    end = periods / f_e
-    pieces, t, state = [], 0.0, (y, v)
+    end = periods / frequency_hz
+    pieces, t, state = [], 0.0, (y_init_m, v_init_m_s)
     while t < end:
         solution = solve_ivp(rhs, (t, end), state, method="DOP853", rtol=rtol,
                              atol=rtol * 1e-7, dense_output=True,
                              events=_crossing if model.effects.contact_loss else None)
-        pieces.append((t, solution.t[-1], solution.sol))
+        if not solution.success:
+            raise RuntimeError(
+                f"solve_ivp (DOP853, rtol={rtol:g}) failed at t = {solution.t[-1]:.6g} s "
+                f"of {end:.6g} s: {solution.message}"
+            )
+        pieces.append((t, solution.sol))
         if solution.status != 1:  # reached the end
             break
         t, state = solution.t[-1], solution.y[:, -1]
         # Step off the crossing so that the event does not fire again at once.
         t, state = _nudge(rhs, t, state, end)
-    times = np.linspace(end - 1 / f_e, end, samples)
+    times = np.linspace(end - 1 / frequency_hz, end, samples)
     values = np.empty(samples)
-    for start, stop, sol in pieces:
-        inside = (times >= start) & (times <= stop)
+    # Each piece serves from its start to the next one's, so that the nudge's gap
+    # (at most 1e-12 s) is covered too: every sample gets a value.
+    bounds = [start for start, _ in pieces[1:]] + [np.inf]
+    for (start, sol), stop in zip(pieces, bounds):
+        inside = (times >= start) & (times < stop)
         if inside.any():
             values[inside] = sol(times[inside])[0]
-    return (times - times[0]) * f_e, values
+    return (times - times[0]) * frequency_hz, values
 
 
 def _nudge(rhs, t, state, end):

@@ -10,8 +10,8 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 
 from numerics import exact_backbone, simulate
-from numerics.__main__ import main
 from numerics._restoring import restoring_force
+from numerics.cli import main
 from perturb import EQ_2_6, ContactModel, ContactParameters, Eq26
 from perturb import symbols as sym
 

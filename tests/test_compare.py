@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from numerics import Orbits, Status, compare
-from numerics.cli import main
 from numerics._compare_backbone import compare_backbones
 from numerics._compare_response import SteadyCurve, compare_response, steady_curve
+from numerics.cli import main
 
 ORDERS = (2, 4, 6, 8, 10)
 

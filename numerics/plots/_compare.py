@@ -7,6 +7,9 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from perturb import ContactModel
+
+from .._backbone import Backbone, exact_backbone
 from .._compare import Comparison
 from ._figure import finish
 
@@ -15,7 +18,7 @@ __all__ = ["plot_comparison"]
 
 def _backbone_errors(ax, comparison: Comparison) -> None:
     b = comparison.backbone
-    for n, error in zip(b.orders, b.error):
+    for n, error in zip(b.orders, b.relative_error):
         ax.loglog(b.app_m * 1e9, np.maximum(error, 1e-17), label=f"order {n}")
     ax.axhline(b.tolerance, color="0.5", lw=0.8, ls="--")
     ax.axvline(b.contact_loss_app_m * 1e9, color="0.3", lw=0.8, ls=":", label="contact lost")
@@ -25,37 +28,94 @@ def _backbone_errors(ax, comparison: Comparison) -> None:
     ax.legend(fontsize="small")
 
 
-def _responses(ax, comparison: Comparison, pa_frac: float) -> None:
+def _shown_app_range(comparison: Comparison) -> tuple[float, float] | None:
+    """(least, largest) A_pp [m] of the RK4 curves the response panels show."""
+    app = np.concatenate([np.ravel(c.app_m).astype(float) for c in comparison.curves]
+                         or [np.empty(0)])
+    app = app[np.isfinite(app) & (app > 0)]
+    return (float(app.min()), float(app.max())) if app.size else None
+
+
+def _covering_backbone(comparison: Comparison, backbone: Backbone | None) -> Backbone | None:
+    """The exact backbone over the whole A_pp range of the curves shown (computed if not given)."""
+    shown = _shown_app_range(comparison)
+    if shown is None:
+        return backbone
+    if backbone is None:
+        lo, hi = shown
+        if hi <= lo:
+            hi = lo * (1 + 1e-9)
+        model = ContactModel.from_dict(comparison.backbone.model)
+        return exact_backbone(app_range_m=(lo, hi), model=model, points=300)
+    covered = (backbone.app_m.min() <= shown[0] * (1 + 1e-9)
+               and backbone.app_m.max() >= shown[1] * (1 - 1e-9))
+    if not covered:
+        raise ValueError(
+            f"`backbone` must cover the A_pp of the curves shown, {shown[0]:.4g}..{shown[1]:.4g} "
+            f"m; it covers {backbone.app_m.min():.4g}..{backbone.app_m.max():.4g} m "
+            "(use exact_backbone(app_range_m=...))."
+        )
+    return backbone
+
+
+def _responses(ax, comparison: Comparison, pa_frac: float, backbone: Backbone | None) -> None:
     order = max(comparison.orders)
+    frequencies = []
     for model, style in (("full", dict(color="k", ms=2.5)), ("eq26", dict(color="C1", ms=1.5))):
         curve = comparison.curve(model, pa_frac)
         ax.semilogy(curve.frequency_hz, curve.app_m * 1e9, ".", label=f"RK4 {model}", **style)
+        frequencies.append(np.asarray(curve.frequency_hz, dtype=float))
     r = comparison.response("eq26", pa_frac, order)
     ax.semilogy(r.frequency_hz, r.series_app_m * 1e9, "o", mfc="none", color="C0", ms=4,
                 label=f"series order {order} (valid)")
+    if backbone is not None:
+        ax.semilogy(backbone.frequency_hz, backbone.app_m * 1e9, "-", color="0.45", lw=0.9,
+                    label="exact backbone")
+        band = np.concatenate(frequencies)
+        band = band[np.isfinite(band)]
+        if band.size:
+            pad = 0.02 * (band.max() - band.min()) or 1.0
+            ax.set_xlim(band.min() - pad, band.max() + pad)
     ax.set_xlabel("$f_e$ [Hz]")
     ax.set_ylabel("$A_{pp}$ [nm]")
     ax.set_title(f"$P_a$ = {pa_frac:.2f} Q")
     ax.legend(fontsize="small")
 
 
-def plot_comparison(comparison: Comparison, path: str | Path | None = None) -> Figure:
-    """Backbone errors by order, and App against f_e per P_a: RK4 of both models, series.
+def plot_comparison(comparison: Comparison, path: str | Path | None = None, *,
+                    backbone: Backbone | None = None) -> Figure:
+    """Backbone errors by order, and A_pp against f_e per P_a: RK4 of both models, series.
+
+    Each response panel also draws the exact backbone (free oscillation) over
+    the whole A_pp range of the RK4 curves shown, bouncing branches included.
+
+    Parameters
+    ----------
+    comparison : Comparison
+        What ``compare`` returned (or ``common.load`` read back).
+    path : str or Path, optional
+        Where to save the figure.
+    backbone : Backbone, optional
+        The exact backbone to draw; it must cover the A_pp range of the curves
+        shown. By default it is computed for that range
+        (``exact_backbone(app_range_m=...)``, 300 levels, about 0.1 s).
 
     Examples
     --------
-    >>> from numerics._compare import compare
-    >>> result = compare((4,), (0.05,), frequencies_hz=np.arange(700.0, 800.0, 10.0))
-    >>> len(plot_comparison(result).axes)
-    2
+    >>> from numerics import compare
+    >>> result = compare((4,), 0.05, frequency_hz=np.arange(700.0, 800.0, 10.0))
+    >>> figure = plot_comparison(result)
+    >>> len(figure.axes), [line.get_label() for line in figure.axes[1].lines][-1]
+    (2, 'exact backbone')
     """
     panels = 1 + len(comparison.pa_fracs)
+    backbone = _covering_backbone(comparison, backbone)
     figure = Figure(figsize=(6.0 * min(panels, 2), 4.2 * ((panels + 1) // 2)),
                     layout="constrained")
     axes = figure.subplots((panels + 1) // 2, min(panels, 2), squeeze=False).ravel()
     _backbone_errors(axes[0], comparison)
     for ax, pa_frac in zip(axes[1:], comparison.pa_fracs):
-        _responses(ax, comparison, pa_frac)
+        _responses(ax, comparison, pa_frac, backbone)
     for ax in axes[panels:]:
         ax.set_visible(False)
     return finish(figure, path)

@@ -18,7 +18,7 @@ def plot_hysteresis(loop: HysteresisLoop, path: str | Path | None = None) -> Fig
 
     Examples
     --------
-    >>> from numerics._hysteresis import hysteresis_loop
+    >>> from numerics import hysteresis_loop
     >>> figure = plot_hysteresis(hysteresis_loop(1600.0, 0.40, steps_per_period=128))
     >>> figure.axes[0].get_xlabel()
     'normal contact pressure $p$ [kPa]'
@@ -32,7 +32,7 @@ def plot_hysteresis(loop: HysteresisLoop, path: str | Path | None = None) -> Fig
     ax.set_xlabel("normal contact pressure $p$ [kPa]")
     ax.set_ylabel("displacement $y$ [nm]")
     ax.set_title(
-        f"Fig. 5: $f_e$ = {loop.f_e_hz:g} Hz, $P_a$ = {loop.p_a_frac:.2f} Q; "
+        f"Fig. 5: $f_e$ = {loop.frequency_hz:g} Hz, $P_a$ = {loop.pa_frac:.2f} Q; "
         f"loop area {loop.loop_area_j * 1e9:.3g} nJ"
     )
     return finish(figure, path)

@@ -17,7 +17,7 @@ def plot_natural_frequency(sweep: HeightSweep, path: str | Path | None = None) -
 
     Examples
     --------
-    >>> from numerics._natural_frequency import natural_frequency_vs_height
+    >>> from numerics import natural_frequency_vs_height
     >>> figure = plot_natural_frequency(natural_frequency_vs_height())
     >>> figure.axes[0].get_ylabel()
     'natural frequency $f_n$ [Hz]'

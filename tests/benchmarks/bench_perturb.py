@@ -31,8 +31,8 @@ from perturb import (
     backbone_series,
     compile_series,
     derive,
-    frequency_response,
     eq26_numbers,
+    frequency_response,
     series_json,
 )
 from perturb._backbone_series import _exact_series

@@ -152,6 +152,22 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
                     ""),
     "grid_points": ("uniform grid points in omega_range before refining the roots", "1", ""),
     "samples": ("samples per period of the reconstructed u(t)", "1", ""),
+    # -- the comparison of the series with RK4
+    "model_name": ("which RK4 model a curve comes from: eq26 (Eq. 2.6) or full (Eq. 2.1-2.4)",
+                   "", "Eq. 2.4, 2.6"),
+    "curves": ("RK4 steady states per (model_name, pa_frac), swept up and down", "", ""),
+    "responses": ("the series of each order against one RK4 curve", "", ""),
+    "backbone": ("the series backbones of each order against the exact backbone", "", ""),
+    "notes": ("what happened along the way that a reader should know", "", ""),
+    "rk4_app_m": ("App of a settled RK4 steady state", "m", "Fig. 2"),
+    "series_app_m": ("App of the valid series response nearest to that state", "m", "Eq. 2.7"),
+    "unmatched": ("a state where the series is valid but no response of it lies near", "", ""),
+    "largest_error": ("largest relative error of App where the series is valid", "1", ""),
+    "largest_matched_error": ("the same over the states that the series matches", "1", ""),
+    "peaks": ("the primary, 1/2 and 1/3 superharmonic peaks, from RK4 and the series", "",
+              "Eq. 3.1"),
+    "k": ("the resonance f_e ~ f_n0 / k (1: primary, k > 1: superharmonic)", "1", "Eq. 3.1"),
+    "rk4_hz": ("place of a peak in the RK4 steady states", "Hz", "Fig. 2"),
 }
 
 

@@ -105,7 +105,7 @@ def sweep(
     Examples
     --------
     >>> result = sweep([1300.0, 1350.0, 1400.0], 0.05, direction="up")
-    >>> [round(a * 1e9, 1) for a in result.runs[0].app_m]
+    >>> [round(float(a) * 1e9, 1) for a in result.runs[0].app_m]
     [48.1, 65.0, 106.1]
     """
     check_choice("direction", direction, DIRECTIONS)

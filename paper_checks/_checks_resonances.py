@@ -101,7 +101,7 @@ def asymmetry(scene: PaperScene) -> Claim:
     for frac in (PAPER_PANEL_FRACTIONS[0], PAPER_PANEL_FRACTIONS[2]):
         run = scene.sweep.run(frac, "up")
         f, _ = _primary_peak(run)
-        i = run.frequency_hz.index(f)
+        i = run.frequency_hz.tolist().index(f)
         up, down = run.ymax_m[i] - y0, y0 - run.ymin_m[i]
         ratios[f"{frac:.2f}Q at {f:g} Hz"] = {"ymax_minus_y0_m": up, "y0_minus_ymin_m": down,
                                                "ratio": up / down}

@@ -26,8 +26,8 @@ def bistability(scene: PaperScene) -> Claim:
     return Claim(
         "bistability_005", "the peak bends to lower frequencies, thus a bi-stability area "
         "appears for P_a = 0.05Q (Section 3.3, Fig. 2a, 3a)", bool(differ.any()),
-        {"bistable_band_hz": band, "jump_up_hz": [up.frequency_hz[i] for i in up.jumps()],
-         "jump_down_hz": [down.frequency_hz[i] for i in down.jumps()]},
+        {"bistable_band_hz": band, "jump_up_hz": [float(up.frequency_hz[i]) for i in up.jumps()],
+         "jump_down_hz": [float(down.frequency_hz[i]) for i in down.jumps()]},
     )
 
 

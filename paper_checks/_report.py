@@ -7,7 +7,7 @@ import json
 import time
 from pathlib import Path
 
-from numerics._info import format_info
+from numerics.cli._info import format_info
 
 from numerics._compare_table import format_comparison
 from perturb import text_report

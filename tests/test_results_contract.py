@@ -63,7 +63,9 @@ def test_a_result_carries_its_model_and_settings(name, instances):
     assert type(result).__name__ == name
     assert set(result.model) >= {"parameters", "effects"}, result.model
     assert result.model["parameters"]["c_n"] == PAPER.c_n
-    assert isinstance(result.settings, dict) and result.settings
+    assert isinstance(result.settings, dict)
+    # Only the backbone series, a derivation of exact rationals, has no settings.
+    assert result.settings or name == "BackboneSeries"
 
 
 @pytest.mark.parametrize("name", sorted(FACTORIES))

@@ -15,6 +15,10 @@ from common import Result, Status, result
 
 __all__ = ["Orbits"]
 
+# Plain integers for the comparisons made once per point of a sweep (an IntEnum
+# member lookup costs more than the comparison itself).
+_SUCCESS, _FAILED = int(Status.SUCCESS), int(Status.FAILED)
+
 
 @result
 class Orbits(Result):
@@ -87,11 +91,11 @@ class Orbits(Result):
 
     @property
     def settled(self) -> np.ndarray:
-        return self.status == Status.SUCCESS
+        return self.status == _SUCCESS
 
     @property
     def failed(self) -> np.ndarray:
-        return self.status == Status.FAILED
+        return self.status == _FAILED
 
     @property
     def contact_lost(self) -> np.ndarray:

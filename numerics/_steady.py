@@ -359,12 +359,13 @@ def _fate(state: Orbits, batch: _Batch, failed_period, max_periods: int) -> None
     """Status and message of the lanes that did not settle."""
     failed = failed_period >= 0
     state.status[failed] = Status.FAILED
-    for lane, message in enumerate(batch.failure_messages(failed_period)):
-        if message:
-            state.message[lane] = message
-        elif not state.settled[lane]:
-            state.message[lane] = (f"not settled within {max_periods} periods (quasi-periodic, "
-                                   "chaotic, or a slow transient)")
+    if failed.any():
+        for lane, message in enumerate(batch.failure_messages(failed_period)):
+            if message:
+                state.message[lane] = message
+    for lane in np.flatnonzero(~state.settled & ~failed):
+        state.message[lane] = (f"not settled within {max_periods} periods (quasi-periodic, "
+                               "chaotic, or a slow transient)")
 
 
 def _merge(state: Orbits, lanes: np.ndarray, finer: Orbits) -> None:
@@ -399,9 +400,9 @@ def _record_orbits(batch: _Batch, state: Orbits, keep_orbits: bool) -> None:
             raise RuntimeError(f"an orbit has {int(rec.count.max())} local extrema in {p} "
                                f"period(s), more than the {width} recorded")
         for j, lane in enumerate(group):
-            rows = rec.extrema(j)
-            rows = rows[rows[:, 0] < least[j]]
-            values, kinds = rows[:, 1], rows[:, 2]
+            n = rec.count[j]
+            within = rec.phase[j, :n] < least[j]
+            values, kinds = rec.value[j, :n][within], rec.kind[j, :n][within]
             state.maxima_m[lane], state.minima_m[lane] = values[kinds > 0], values[kinds < 0]
             ends = rec.history_y[j, : least[j] * steps]
             state.ymin_m[lane] = min(values.min(initial=np.inf), ends.min(),

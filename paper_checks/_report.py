@@ -7,6 +7,7 @@ import json
 import time
 from pathlib import Path
 
+from common import write_json
 from numerics.cli._info import format_info
 
 from numerics._compare_table import format_comparison
@@ -69,9 +70,10 @@ def _work_section(work) -> list[str]:
 def _runs_section(out: Path, this_run: dict) -> list[str]:
     """This run's wall time, and those of earlier runs into the same folder."""
     history_file = out / "runs.json"
-    history = json.loads(history_file.read_text()) if history_file.exists() else []
+    history = (json.loads(history_file.read_text(encoding="utf-8")) if history_file.exists()
+               else [])
     history.append(this_run)
-    history_file.write_text(json.dumps(history[-10:], indent=1) + "\n")
+    write_json(history_file, history[-10:])
     lines = ["## Wall time of `python -m paper_checks` runs into this folder", "",
              "| run | wall time [s] | kernels compiled in the run | quick |", "|---|---|---|---|"]
     lines += [f"| {i} | {r['wall_s']:.1f} | {r['kernels_compiled']} | {r['quick']} |"
@@ -118,9 +120,9 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
     compiled = len(kernel_files()) - kernels_cached_before if kernel_files else 0
     this_run = {"wall_s": elapsed, "kernels_compiled": compiled, "quick": quick}
     lines += [""] + _runs_section(out, this_run)
-    (out / "report.md").write_text("\n".join(lines) + "\n")
+    (out / "report.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
     payload = {"claims": [c.as_dict() for c in claims], "elapsed_s": elapsed,
                "timings": scene.timings, "work_precision": work.as_dict(),
                "figures": figures, "quick": quick, "run": this_run}
-    (out / "report.json").write_text(json.dumps(payload, indent=1) + "\n")
+    write_json(out / "report.json", payload)
     return payload

@@ -111,4 +111,7 @@ def test_the_readme_shows_the_glossary():
     from pathlib import Path
 
     readme = (Path(__file__).parents[1] / "README.md").read_text(encoding="utf-8")
-    assert glossary_table() in readme
+    assert glossary_table() in readme, (
+        "the README's glossary differs from common/_glossary.py: paste the output of "
+        "`python -c 'from common import glossary_table; print(glossary_table())'` "
+        "between its <!-- glossary --> marks")

@@ -13,7 +13,9 @@ import importlib.util
 import inspect
 import os
 import sys
+import tempfile
 import threading
+import warnings
 from pathlib import Path
 from types import ModuleType
 
@@ -21,7 +23,15 @@ import sympy as sp
 
 from perturb import ContactModel
 
-__all__ = ["compiled_kernels", "acceleration_source", "cache_dir"]
+__all__ = ["compiled_kernels", "acceleration_source", "cache_dir", "CacheWarning"]
+
+#: The kernels every generated module must define (a module without them is broken).
+_KERNELS = ("advance_periods", "record_periods", "shoot_periods", "strobe_periods",
+            "acceleration_batch")
+
+
+class CacheWarning(UserWarning):
+    """The kernel cache could not be used as configured; a fallback is used instead."""
 
 _FORCE = sp.Symbol("force", real=True)
 _TEMPLATE = Path(__file__).with_name("_kernel_template.py")
@@ -117,17 +127,79 @@ def compiled_kernels(model: ContactModel) -> ModuleType:
         return _LOADED[memo]
 
 
-def _load(key: str, model: ContactModel) -> ModuleType:
+def _writable(folder: Path) -> bool:
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=folder):
+            return True
+    except OSError:
+        return False
+
+
+def usable_cache_dir() -> Path:
+    """``cache_dir()`` if files can be written there, else a private temporary folder
+    (with a one-line ``CacheWarning``): the kernels still work, they are compiled again."""
     folder = cache_dir()
-    folder.mkdir(parents=True, exist_ok=True)
-    path = folder / f"kernel_{key}.py"
-    if not path.exists():
-        tmp = path.with_suffix(f".tmp{os.getpid()}")
-        tmp.write_text(_module_source(model))
-        tmp.replace(path)  # atomic, so that parallel processes never read half a file
+    if _writable(folder):
+        return folder
+    fallback = Path(tempfile.gettempdir()) / f"contact-resonances-{os.getuid()}" / "kernels"
+    warnings.warn(f"kernel cache {str(folder)!r} is not writable; using {str(fallback)!r}",
+                  CacheWarning, stacklevel=3)
+    fallback.mkdir(parents=True, exist_ok=True)
+    return fallback
+
+
+def _checksum(body: str) -> str:
+    return "# sha256 " + hashlib.sha256(body.encode()).hexdigest()
+
+
+def _intact(path: Path) -> bool:
+    """Whether the file holds all the source it was written with (its first line is the
+    checksum of the rest): a truncated, emptied or edited file is not."""
+    try:
+        head, _, body = path.read_text().partition("\n")
+    except (OSError, UnicodeDecodeError):
+        return False
+    return head == _checksum(body)
+
+
+def _remove(path: Path) -> None:
+    """The generated file and numba's machine code cached for it."""
+    for stale in [path, *path.parent.glob(f"__pycache__/{path.stem}.*")]:
+        stale.unlink(missing_ok=True)
+
+
+def _write(path: Path, model: ContactModel) -> None:
+    body = _module_source(model)
+    tmp = path.with_suffix(f".tmp{os.getpid()}")
+    tmp.write_text(f"{_checksum(body)}\n{body}")
+    tmp.replace(path)  # atomic, so that parallel processes never read half a file
+
+
+def _import(path: Path, key: str) -> ModuleType:
     name = f"_contact_kernel_{key}"
     spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module
-    spec.loader.exec_module(module)
+    try:
+        spec.loader.exec_module(module)
+        for kernel in _KERNELS:
+            getattr(module, kernel)
+    except Exception:
+        sys.modules.pop(name, None)
+        raise
     return module
+
+
+def _load(key: str, model: ContactModel) -> ModuleType:
+    path = usable_cache_dir() / f"kernel_{key}.py"
+    if path.exists() and not _intact(path):
+        _remove(path)  # corrupt or partial (a crash while writing, a full disk): rebuilt
+    if not path.exists():
+        _write(path, model)
+    try:
+        return _import(path, key)
+    except Exception:  # e.g. a broken numba cache beside an intact file: rebuild once
+        _remove(path)
+        _write(path, model)
+        return _import(path, key)

@@ -1,0 +1,60 @@
+"""The kernel cache on disk: a broken file is rebuilt, an unwritable folder is replaced.
+
+Regression (issue 10): a truncated or empty cached kernel file used to give a
+SyntaxError or AttributeError in every later run, and an unwritable cache folder a
+traceback. Here nothing is compiled: the kernels are compiled on first call, and
+these tests only load the modules.
+"""
+
+import warnings
+
+import pytest
+
+from numerics import _codegen
+from perturb import LINEAR, ContactModel
+
+MODEL = ContactModel(effects=LINEAR)
+
+
+@pytest.fixture
+def cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("CONTACT_RESONANCES_CACHE", str(tmp_path))
+    return tmp_path / "kernels"
+
+
+def _path(cache):
+    return cache / f"kernel_{_codegen._cache_key(MODEL)}.py"
+
+
+@pytest.mark.parametrize("damage", ["truncated", "emptied", "edited"])
+def test_a_damaged_kernel_file_is_rebuilt(cache, damage):
+    key = _codegen._cache_key(MODEL)
+    _codegen._load(key, MODEL)
+    path = _path(cache)
+    text = path.read_text()
+    broken = {"truncated": text[: len(text) // 2], "emptied": "",
+              "edited": text.replace("def advance_periods", "def advance_period")}[damage]
+    path.write_text(broken)
+    module = _codegen._load(key, MODEL)
+    assert _codegen._intact(path) and path.read_text() == text
+    assert callable(module.advance_periods)
+
+
+def test_an_intact_file_that_does_not_import_is_rebuilt(cache):
+    key = _codegen._cache_key(MODEL)
+    path = _path(cache)
+    path.parent.mkdir(parents=True)
+    body = "raise ImportError('a broken cache beside the file')\n"
+    path.write_text(f"{_codegen._checksum(body)}\n{body}")
+    module = _codegen._load(key, MODEL)
+    assert callable(module.record_periods) and _codegen._intact(path)
+
+
+def test_an_unwritable_cache_folder_falls_back_with_one_warning(monkeypatch):
+    monkeypatch.setenv("CONTACT_RESONANCES_CACHE", "/proc/contact-resonances")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        folder = _codegen.usable_cache_dir()
+    assert [w.category for w in caught] == [_codegen.CacheWarning]
+    assert "not writable" in str(caught[0].message)
+    assert _codegen._writable(folder) and not str(folder).startswith("/proc")

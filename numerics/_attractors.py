@@ -29,6 +29,13 @@ DEFAULT_GRID = {
     "v_over_omega0_y0": (-8.0, -3.0, -1.0, 0.0, 1.0, 3.0, 8.0),
 }
 CLUSTER_TOL = 1e-3  # relative to the orbit's App: states closer than this are one orbit
+#: ... but never relative to less than this fraction of y0: the settling test leaves
+#: round-off of about tol x 1e-3 y0, so at rest or at tiny forces the orbits reached
+#: from different states differ by far less than a picometre; they are one state.
+CLUSTER_FLOOR = 1e-2
+#: An orbit whose App is below this fraction of y0 is rest: its harmonics are
+#: round-off, and no resonance can be read from them.
+REST_FRACTION = 1e-9
 
 
 @result
@@ -41,7 +48,7 @@ class Attractor(Result):
     ymax_m: float
     basin_fraction: float
     contact_lost: bool
-    dominant_harmonic: float  # frequency of the strongest harmonic of the acceleration, / f_e
+    dominant_harmonic: float  # strongest harmonic of the acceleration, / f_e (0: rest)
     multipliers: np.ndarray  # Floquet multipliers of the orbit (stable: inside the unit circle)
     orbit_y_m: np.ndarray  # y after every step of one orbit
 
@@ -49,6 +56,8 @@ class Attractor(Result):
     def label(self) -> str:
         """The resonance the orbit belongs to, by its strongest harmonic (Section 3.2)."""
         m = self.dominant_harmonic
+        if m == 0:
+            return "rest"
         if self.period != 1:
             return f"period-{self.period} ({m:g} f_e strongest)"
         return "primary" if m == 1 else f"1/{int(m)} superharmonic"
@@ -146,25 +155,28 @@ def attractors(
     found = steady_states(np.full(y.size, f_e), frac * model.parameters.Q_n, model=model,
                           y_init_m=y, v_init_m_s=v, steps_per_period=steps_per_period, tol=tol,
                           max_periods=max_periods, keep_orbits=True)
-    census = [_describe(found, members, y.size) for members in _cluster(found)]
+    y0 = eq26_numbers(model.parameters).y0_m
+    census = [_describe(found, members, y.size, y0) for members in _cluster(found, y0)]
     census.sort(key=lambda a: -a.basin_fraction)
     lanes = found.take(np.arange(y.size))
     lanes.orbit_y_m = None  # each attractor keeps its own orbit
     settings = {"initial_states": int(y.size), "grid": grid or DEFAULT_GRID,
                 "steps_per_period": steps_per_period, "tol": tol, "max_periods": max_periods,
-                "cluster_tol": CLUSTER_TOL}
+                "cluster_tol": CLUSTER_TOL, "cluster_floor_y0": CLUSTER_FLOOR,
+                "rest_fraction_y0": REST_FRACTION}
     return Census(frequency_hz=f_e, pa_frac=frac, model=model.as_dict(), settings=settings,
                   attractors=census, lanes=lanes, elapsed_s=time.perf_counter() - start)
 
 
-def _cluster(found) -> list[np.ndarray]:
-    """Group settled lanes whose period matches and whose ymin, ymax agree within tol."""
+def _cluster(found, y0: float) -> list[np.ndarray]:
+    """Group settled lanes whose period matches and whose ymin, ymax agree within
+    CLUSTER_TOL of the orbit's App (or of CLUSTER_FLOOR y0, if that is larger)."""
     groups: list[list[int]] = []
     app = found.app_m
     for lane in np.flatnonzero(found.settled):
         for group in groups:
             first = group[0]
-            scale = max(app[first], 1e-30)
+            scale = max(app[first], CLUSTER_FLOOR * y0)
             same = (found.period[first] == found.period[lane]
                     and abs(found.ymin_m[first] - found.ymin_m[lane]) < CLUSTER_TOL * scale
                     and abs(found.ymax_m[first] - found.ymax_m[lane]) < CLUSTER_TOL * scale)
@@ -176,15 +188,17 @@ def _cluster(found) -> list[np.ndarray]:
     return [np.array(g) for g in groups]
 
 
-def _describe(found, members, total) -> Attractor:
+def _describe(found, members, total, y0: float) -> Attractor:
     lane = members[0]
     p = int(found.period[lane])
     orbit = found.orbit_y_m[lane]
+    resting = found.app_m[lane] < REST_FRACTION * y0
     return Attractor(
         period=p, app_m=float(found.app_m[lane]), ymin_m=float(found.ymin_m[lane]),
         ymax_m=float(found.ymax_m[lane]), basin_fraction=members.size / total,
         contact_lost=bool(found.ymin_m[lane] < 0),
-        dominant_harmonic=_dominant_harmonic(orbit, p), multipliers=found.multipliers[lane],
+        dominant_harmonic=0.0 if resting else _dominant_harmonic(orbit, p),
+        multipliers=found.multipliers[lane],
         orbit_y_m=orbit,
     )
 

@@ -95,20 +95,21 @@ class _Batch(Lanes):
         converged = np.zeros(lanes.shape[0], dtype=bool)
         monodromy = np.empty((lanes.shape[0], 2, 2))
         scale = self.length
-        for _ in range(_NEWTON_ITERATIONS):
-            yp, vp = y.copy(), v.copy()
-            k.shoot_periods(yp, vp, self.dt[lanes], self.p_a[lanes], self.drive, p, monodromy)
-            self.periods_run[lanes] += p
-            # (M - I) dx = -(Phi(x) - x), a 2x2 solve per lane.
-            step_y, step_v = _solve_2x2(monodromy - np.eye(2), y - yp, v - vp)
-            y, v = y + step_y, v + step_v
-            size = self.distance(lanes, step_y, step_v, scale)
-            converged = np.isfinite(size) & (size < self.tol * 1e-3)
-            if converged.all() or not np.isfinite(size).any():
-                break
-        multipliers = _eigenvalues(monodromy)
-        moved = self.distance(lanes, y - y_start, v - v_start, self.scale(span))
-        near = np.isfinite(moved) & (moved < reach)
+        with np.errstate(all="ignore"):  # a lane may diverge: its values are inf or NaN
+            for _ in range(_NEWTON_ITERATIONS):
+                yp, vp = y.copy(), v.copy()
+                k.shoot_periods(yp, vp, self.dt[lanes], self.p_a[lanes], self.drive, p, monodromy)
+                self.periods_run[lanes] += p
+                # (M - I) dx = -(Phi(x) - x), a 2x2 solve per lane.
+                step_y, step_v = _solve_2x2(monodromy - np.eye(2), y - yp, v - vp)
+                y, v = y + step_y, v + step_v
+                size = self.distance(lanes, step_y, step_v, scale)
+                converged = np.isfinite(size) & (size < self.tol * 1e-3)
+                if converged.all() or not np.isfinite(size).any():
+                    break
+            multipliers = _eigenvalues(monodromy)
+            moved = self.distance(lanes, y - y_start, v - v_start, self.scale(span))
+            near = np.isfinite(moved) & (moved < reach)
         return converged & near & _stable(multipliers), y, v, multipliers
 
     def follows(self, lanes, y, v, y_orbit, v_orbit, p, span):
@@ -180,11 +181,12 @@ class _Batch(Lanes):
         for p in reversed(PERIODS_TRIED):
             if sy.shape[1] < p + 3:
                 continue
-            d = np.stack([
-                self.distance(lanes, sy[:, j] - sy[:, j - p], sv[:, j] - sv[:, j - p], scale)
-                for j in (-3, -2, -1)
-            ])
-            with np.errstate(all="ignore"):
+            with np.errstate(all="ignore"):  # a diverged lane's samples are inf or NaN
+                d = np.stack([
+                    self.distance(lanes, sy[:, j] - sy[:, j - p], sv[:, j] - sv[:, j - p],
+                                  scale)
+                    for j in (-3, -2, -1)
+                ])
                 rho = np.maximum(d[1] / d[0], d[2] / d[1])
                 left = d.max(axis=0) / (1 - rho)
             at_roundoff = d.max(axis=0) < self.tol * 1e-3

@@ -138,22 +138,28 @@ def sweep(
 
 
 def _sweep_lanes(freq, p_a, model, quiet, **accuracy) -> Orbits:
-    """Walk every lane through its frequencies; the points, frequency by frequency."""
+    """Walk every lane through its frequencies; the points, frequency by frequency.
+
+    Each point starts from the orbit of the last point that settled (the paper's
+    method), or from rest if none has: a point that failed, diverged or did not
+    settle is reported with its status, and its last state, which can be huge but
+    finite, never seeds the next point.
+    """
     found = []
-    y = v = span = None
-    period = 1
-    rest = eq26_numbers(model.parameters).y0_m
+    lanes = freq.shape[0]
+    y = np.full(lanes, eq26_numbers(model.parameters).y0_m)  # rest
+    v, app, period = np.zeros(lanes), np.zeros(lanes), np.ones(lanes, dtype=np.int64)
+    continued = None  # no orbit to continue before the first point
     bar = progress(freq.shape[1], "sweep", quiet=quiet)
     for j in range(freq.shape[1]):
         point = steady_states(freq[:, j], p_a, model=model, y_init_m=y, v_init_m_s=v,
-                              period_guess=period, app_guess_m=span, **accuracy)
-        # The next point starts from this point's orbit (or last state, if unsettled);
-        # a lane whose state blew up (a reduced model with no floor) starts from rest.
-        blown = ~(np.isfinite(point.y_start_m) & np.isfinite(point.v_start_m_s))
-        y = np.where(blown, rest, point.y_start_m)
-        v = np.where(blown, 0.0, point.v_start_m_s)
-        span = np.where(point.settled & ~blown, point.app_m, 0.0)
-        period = np.maximum(point.period, 1)
+                              period_guess=period, app_guess_m=continued, **accuracy)
+        good = point.settled
+        y = np.where(good, point.y_start_m, y)
+        v = np.where(good, point.v_start_m_s, v)
+        app = np.where(good, point.app_m, app)
+        period = np.where(good, point.period, period)
+        continued = app
         found.append(point)
         bar.update()
     bar.close()

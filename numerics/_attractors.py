@@ -102,7 +102,8 @@ class Census(Result):
         width = max([24] + [len(a.label) for a in self.attractors])
         lines = [f"  {a.row(width)}" for a in self.attractors]
         if self.not_settled_fraction:
-            lines.append(f"  not settled: {self.not_settled_fraction:.1%} of initial states")
+            lines.append(f"  of {self.lanes.status.size} initial states: {self.lanes.fates()} "
+                         "(not counted as attractors)")
         return "\n".join(lines)
 
 

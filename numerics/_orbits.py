@@ -48,6 +48,12 @@ class Orbits(Result):
         RK4 steps per period of the point's result (after refinement).
     periods_run : ndarray of int
         Excitation periods integrated for the point (its cost).
+    error_estimate : ndarray
+        Estimated relative error of App from the step: |App(N) - App(N/2)| / App(N),
+        one period from the orbit's start at half the steps (conservative: RK4 is
+        about second order through loss of contact, fourth in contact); inf where
+        the step is too coarse to estimate it, NaN where nothing settled or no
+        estimate was asked for.
     orbit_y_m : list of ndarray, optional
         y after every step of one orbit (kept when asked for: the census).
     """
@@ -67,6 +73,7 @@ class Orbits(Result):
     method: np.ndarray
     steps_used: np.ndarray
     periods_run: np.ndarray
+    error_estimate: np.ndarray
     orbit_y_m: list[np.ndarray] | None = None
 
     @classmethod
@@ -81,7 +88,7 @@ class Orbits(Result):
             y_start_m=np.full(n, np.nan), v_start_m_s=np.full(n, np.nan),
             multipliers=np.full((n, 2), np.nan, dtype=complex),
             method=np.full(n, "none", dtype=object), steps_used=np.full(n, steps, dtype=np.int64),
-            periods_run=np.zeros(n, dtype=np.int64),
+            periods_run=np.zeros(n, dtype=np.int64), error_estimate=np.full(n, np.nan),
         )
 
     @property
@@ -109,6 +116,14 @@ class Orbits(Result):
         counts = {str(m): int((self.method == m).sum()) for m in np.unique(self.method.astype(str))}
         return (f"{type(self).__name__}: {int(self.settled.sum())}/{self.status.size} settled, "
                 f"periods {sorted(set(self.period.tolist()))}, {counts}")
+
+    def fates(self) -> str:
+        """How many points did not settle, were under-resolved or failed ("" if none)."""
+        counts = np.bincount(self.status - int(Status.FAILED), minlength=4)
+        names = {Status.NOT_SETTLED: "not settled", Status.UNDER_RESOLVED: "under-resolved",
+                 Status.FAILED: "failed"}
+        return ", ".join(f"{counts[int(s) - int(Status.FAILED)]} {name}"
+                         for s, name in names.items() if counts[int(s) - int(Status.FAILED)])
 
     def columns(self) -> dict:
         """The record's fields, by name (to build a subclass from them)."""

@@ -39,7 +39,7 @@ class SweepRun(Orbits):
 
     def summary(self) -> str:
         return (f"SweepRun: P_a = {self.pa_frac:g} Q {self.direction}, {self.status.size} "
-                f"points, {int((~self.settled).sum())} not settled")
+                f"points, {self.fates() or 'all settled'}")
 
 
 @result
@@ -58,10 +58,10 @@ class Sweep(Result):
                       lambda r: (r.pa_frac, r.direction))
 
     def summary(self) -> str:
-        points = sum(r.status.size for r in self.runs)
-        unsettled = sum(int((~r.settled).sum()) for r in self.runs)
-        return (f"Sweep: {len(self.runs)} runs, {points} points, {unsettled} not settled, "
-                f"{self.elapsed_s:.3g} s")
+        points = Orbits.stack(self.runs) if self.runs else None
+        fates = points.fates() if points is not None else ""
+        return (f"Sweep: {len(self.runs)} runs, {0 if points is None else points.status.size} "
+                f"points, {fates or 'all settled'}, {self.elapsed_s:.3g} s")
 
     def table(self) -> str:
         lines = []
@@ -82,6 +82,7 @@ def sweep(
     model: ContactModel | None = None,
     steps_per_period: int = DEFAULTS["steps_per_period"],
     tol: float = DEFAULTS["tol"],
+    app_rtol: float | None = DEFAULTS["app_rtol"],
     max_periods: int = DEFAULTS["max_periods"],
     method: str = "newton",
     refinements: int = DEFAULTS["refinements"],
@@ -97,7 +98,7 @@ def sweep(
         Force amplitudes P_a as fractions of the weight Q.
     direction : {"up", "down", "both"}
     model : ContactModel, optional
-    steps_per_period, tol, max_periods, method, refinements
+    steps_per_period, tol, app_rtol, max_periods, method, refinements
         As in ``steady_states``.
     quiet : bool
         No progress bar on stderr.
@@ -123,7 +124,8 @@ def sweep(
 
     start = time.perf_counter()
     points = _sweep_lanes(freq, p_a, model, quiet, steps_per_period=steps_per_period, tol=tol,
-                          max_periods=max_periods, method=method, refinements=refinements)
+                          app_rtol=app_rtol, max_periods=max_periods, method=method,
+                          refinements=refinements)
     runs = [
         SweepRun(pa_frac=float(frac), direction=d,
                  **points.take(np.arange(i, points.status.size, len(lanes))).columns())
@@ -131,7 +133,8 @@ def sweep(
     ]
     settings = {"frequency_hz": [float(grid[0]), float(grid[-1]), int(grid.size)],
                 "pa_frac": fracs.tolist(), "direction": direction,
-                "steps_per_period": steps_per_period, "tol": tol, "max_periods": max_periods,
+                "steps_per_period": steps_per_period, "tol": tol, "app_rtol": app_rtol,
+                "max_periods": max_periods,
                 "method": method, "refinements": refinements}
     return Sweep(model=model.as_dict(), settings=settings, runs=runs,
                  elapsed_s=time.perf_counter() - start)

@@ -108,13 +108,13 @@ def plot_comparison(comparison: Comparison, path: str | Path | None = None, *,
     >>> len(figure.axes), [line.get_label() for line in figure.axes[1].lines][-1]
     (2, 'exact backbone')
     """
-    panels = 1 + len(comparison.pa_fracs)
+    panels = 1 + len(comparison.pa_frac)
     backbone = _covering_backbone(comparison, backbone)
     figure = Figure(figsize=(6.0 * min(panels, 2), 4.2 * ((panels + 1) // 2)),
                     layout="constrained")
     axes = figure.subplots((panels + 1) // 2, min(panels, 2), squeeze=False).ravel()
     _backbone_errors(axes[0], comparison)
-    for ax, pa_frac in zip(axes[1:], comparison.pa_fracs):
+    for ax, pa_frac in zip(axes[1:], comparison.pa_frac):
         _responses(ax, comparison, pa_frac, backbone)
     for ax in axes[panels:]:
         ax.set_visible(False)

@@ -334,11 +334,8 @@ def exact_backbone(
             half[mask], a1[mask], lower[mask] = regime(r, upper[mask], nodes)
     frequency = 1 / (2 * half * r.time_unit_s)
     (half0,), _, _ = _in_contact(r, np.array([1e-9]), 8)
-    settings = {
-        "points": int(u.size), "nodes": nodes,
-        "app_range_m": None if app_range_m is None else list(check_pair("app_range_m",
-                                                                         app_range_m)),
-    }
+    app_range = None if app_range_m is None else list(check_pair("app_range_m", app_range_m))
+    settings = {"points": int(u.size), "nodes": nodes, "app_range_m": app_range}
     return Backbone(
         u_max_m=u, ymin_m=y0 * (1 + lower), ymax_m=y0 * (1 + upper),
         app_m=y0 * (upper - lower), a1_m=y0 * np.abs(a1), frequency_hz=frequency,

@@ -88,10 +88,10 @@ class BackboneComparison(Result):
 
         Examples
         --------
-        >>> print(compare_backbones((2, 4), points=100).table())
+        >>> print(compare_backbones((2, 4)).table())
          order  a1 limit [nm]  A_pp limit [nm]  A_pp crossing [nm]
-             2          169.6            365.4                365.4
-             4          185.7            390.0*               539.8
+             2          181.9           365.5                365.5
+             4          193.9           390.0*               540.1
         """
         lines = [f"{'order':>6}{'a1 limit [nm]':>15}{'A_pp limit [nm]':>17}"
                  f"{'A_pp crossing [nm]':>20}"]

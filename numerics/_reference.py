@@ -8,6 +8,7 @@ it. It is slow and exact enough to judge the fast routes (work-precision, tests)
 
 from __future__ import annotations
 
+import math
 from functools import lru_cache
 
 import numpy as np
@@ -41,15 +42,34 @@ def reference_last_period(model: ContactModel, frequency_hz: float, p_a_n: float
                           rtol: float = 1e-10, samples: int = 20001):
     """y over the last of ``periods`` periods from (y, v) at phase 0: (phase, y_m).
 
-    ``samples`` points per period sample the dense output (extrema to ~(pi/samples)^2).
+    Parameters
+    ----------
+    model : ContactModel
+        The model (any effects).
+    frequency_hz, p_a_n : float
+        Excitation frequency f_e [Hz] (> 0) and force amplitude P_a [N] (>= 0).
+    y_init_m, v_init_m_s : float
+        The state at phase 0 [m, m/s].
+    periods : int
+        Periods to integrate (>= 1); the last one is returned.
+    rtol : float
+        DOP853's relative tolerance (atol is 1e-7 of it, in metres).
+    samples : int
+        Points of the last period that sample the dense output (extrema to
+        ~(pi/samples)^2), >= 2.
+
+    Returns
+    -------
+    phase, y_m : ndarray, shape (samples,)
+        Phase in periods, 0..1, and y [m].
 
     Raises
     ------
     ValueError
         For bad input, naming the argument.
     RuntimeError
-        If ``solve_ivp`` fails (its message, and where it stopped), instead of
-        returning a period it did not integrate.
+        If ``solve_ivp`` fails (its message, and where it stopped) or y is not
+        finite, instead of returning a period it did not integrate.
     """
     if not isinstance(model, ContactModel):
         raise ValueError(f"`model` must be a perturb.ContactModel, got {model!r}.")
@@ -63,7 +83,11 @@ def reference_last_period(model: ContactModel, frequency_hz: float, p_a_n: float
     omega = 2 * np.pi * frequency_hz
 
     def rhs(t, state):
-        return (state[1], accel(state[0], state[1], p_a_n * np.cos(omega * t)))
+        acceleration = accel(state[0], state[1], p_a_n * math.cos(omega * t))
+        if not math.isfinite(acceleration):  # DOP853 would shrink its step forever
+            raise RuntimeError(f"the acceleration is not finite at t = {t:.6g} s, "
+                               f"y = {float(state[0]):.6g} m, v = {float(state[1]):.6g} m/s")
+        return (state[1], acceleration)
 
     end = periods / frequency_hz
     pieces, t, state = [], 0.0, (y_init_m, v_init_m_s)
@@ -91,6 +115,11 @@ def reference_last_period(model: ContactModel, frequency_hz: float, p_a_n: float
         inside = (times >= start) & (times < stop)
         if inside.any():
             values[inside] = sol(times[inside])[0]
+    if not np.all(np.isfinite(values)):
+        raise RuntimeError(
+            f"solve_ivp (DOP853, rtol={rtol:g}) gave non-finite y over the last period "
+            f"(from y = {y_init_m:.6g} m, v = {v_init_m_s:.6g} m/s at {frequency_hz:g} Hz)"
+        )
     return (times - times[0]) * frequency_hz, values
 
 

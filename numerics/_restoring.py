@@ -21,7 +21,7 @@ import numpy as np
 import sympy as sp
 from sympy.codegen.rewriting import expm1_opt, log1p_opt, optimize
 
-from perturb import ContactModel
+from perturb import ContactModel, eq26_numbers
 from perturb import symbols as sym
 
 __all__ = ["Restoring", "restoring_force"]
@@ -109,8 +109,8 @@ def restoring_force(model: ContactModel | None = None) -> Restoring:
     _check_effects(model)
     contact = _scaled_contact_force(model).subs(model.values)
     flight = -model.gravity_force / (sym.M * sym.g)  # the weight alone, Eq. 2.1 with y <= 0
-    y0 = model.numeric(model.static_deflection)
-    g = model.numeric(sym.g)
+    y0 = eq26_numbers(model.parameters).y0_m  # y0's one route
+    g = model.parameters.g
     return Restoring(
         y0_m=y0,
         time_unit_s=math.sqrt(y0 / g),

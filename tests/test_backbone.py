@@ -9,10 +9,11 @@ import pytest
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from numerics import exact_backbone, simulate
+from common import load
+from numerics import Backbone, exact_backbone, simulate
 from numerics._restoring import restoring_force
 from numerics.cli import main
-from perturb import EQ_2_6, ContactModel, ContactParameters, Eq26
+from perturb import EQ_2_6, ContactModel, ContactParameters, eq26_numbers
 from perturb import symbols as sym
 
 EXPONENTS = (1.0, 1.5, 2.0, 2.5, 3.0)
@@ -33,7 +34,7 @@ def test_small_amplitude_limit_is_f_n0(m2, level):
     # A naive E - V(y) loses every digit at 1e-14 y0; the quadrature must not.
     model = model_with(m2)
     backbone = exact_backbone([level * y0_of(model)], model=model)
-    f_n0 = Eq26(model).numeric()["f_n0_hz"]
+    f_n0 = eq26_numbers(model.parameters).f_n0_hz
     error = abs(backbone.frequency_hz[0] / f_n0 - 1)
     assert error < 1e-9, f"m2={m2}, u/y0={level}: relative error {error:.2e}"
     assert abs(backbone.f_n0_hz / f_n0 - 1) < 1e-12
@@ -142,8 +143,8 @@ def rk4_frequency_error(level: float, steps: tuple[int, ...], periods: int = 4) 
     errors = []
     for n in steps:
         run = simulate(backbone.frequency_hz, 0.0, periods=periods, steps_per_period=n,
-                       model=model, y_init=y0 + level * y0, v_init=0.0, record=("final",))
-        errors.append(abs(run.v_final[0] / acceleration_at_top[0]) * backbone.frequency_hz[0])
+                       model=model, y_init_m=y0 + level * y0, v_init_m_s=0.0, record=("final",))
+        errors.append(abs(run.v_final_m_s[0] / acceleration_at_top[0]) * backbone.frequency_hz[0])
     return np.array(errors) / periods
 
 
@@ -189,30 +190,118 @@ def test_quadrature_converges_geometrically():
 @pytest.mark.parametrize(
     "kwargs, name",
     [({"u_max_m": [-1e-9]}, "u_max_m"), ({"u_max_m": []}, "u_max_m"),
-     ({"points": 0}, "points"), ({"nodes": 4}, "nodes"),
-     ({"model": ContactModel(effects=EQ_2_6)}, "model")],
+     ({"points": 0}, "points"), ({"points": 2.5}, "points"), ({"nodes": 4}, "nodes"),
+     ({"model": ContactModel(effects=EQ_2_6)}, "model"),
+     ({"app_range_m": (1e-7,)}, "app_range_m"), ({"app_range_m": (2e-7, 1e-7)}, "app_range_m"),
+     ({"app_range_m": (0.0, 1e-7)}, "app_range_m"), ({"app_range_m": 1e-7}, "app_range_m"),
+     ({"u_max_m": [1e-8], "app_range_m": (1e-8, 1e-7)}, "app_range_m")],
 )
 def test_bad_input_is_named(kwargs, name):
     with pytest.raises(ValueError, match=f"`{name}`"):
         exact_backbone(**kwargs)
 
 
-def test_cli_writes_the_four_keys(tmp_path, capsys):
+# -- an A_pp range: up to the bouncing branches of Fig. 2 ---------------------------------
+@pytest.mark.parametrize("m2", [1.0, 1.5, 2.0, 3.0])
+def test_app_range_ends_at_the_asked_amplitudes(m2):
+    # From 1e-9 y0 (linear) to 100 y0 (bouncing; for m2 = 2, 22.5 um, Fig. 2's scale).
+    model = model_with(m2)
+    ends = (1e-9 * y0_of(model), 100 * y0_of(model))
+    backbone = exact_backbone(app_range_m=ends, model=model, points=40)
+    assert backbone.app_m[0] == pytest.approx(ends[0], rel=1e-12)
+    assert backbone.app_m[-1] == pytest.approx(ends[1], rel=1e-12)
+    assert np.all(np.diff(backbone.app_m) > 0)
+    assert not backbone.contact_lost[0] and backbone.contact_lost[-1]
+    assert backbone.settings["app_range_m"] == list(ends)
+    # The same levels, given directly, give the same backbone.
+    again = exact_backbone(backbone.u_max_m, model=model)
+    assert np.array_equal(again.frequency_hz, backbone.frequency_hz)
+
+
+def test_app_range_at_25_um_agrees_with_tight_solve_ivp():
+    # The top of the bouncing branches of Fig. 2 (A_pp = 25 um): y_min is about -100 y0,
+    # a long flight; the exact route against a free DOP853 run of the model's own ODE.
+    backbone = exact_backbone(app_range_m=(1e-6, 2.5e-5), points=2)
+    free = free_oscillation(ContactModel(), backbone.u_max_m[-1])
+    assert backbone.frequency_hz[-1] / free["frequency"] - 1 == pytest.approx(0, abs=1e-9)
+    assert backbone.ymin_m[-1] == pytest.approx(free["ymin"], rel=1e-9)
+
+
+# -- the result contract -----------------------------------------------------------------
+def test_round_trip_through_strict_json(tmp_path):
+    backbone = exact_backbone(app_range_m=(1e-8, 2.5e-5), points=9)
+    data = backbone.as_dict()
+    json.dumps(data, allow_nan=False)
+    backbone.to_json(tmp_path / "backbone.json")
+    back = load(tmp_path / "backbone.json")
+    assert isinstance(back, Backbone) and back.as_dict() == data
+    assert back.contact_lost.dtype == bool and back.app_m.dtype == float
+    assert ContactModel.from_dict(back.model) == ContactModel()
+    assert back.settings == {"points": 9, "nodes": 48, "app_range_m": [1e-8, 2.5e-5]}
+    assert "\n" not in repr(backbone) and len(repr(backbone)) < 200
+    assert str(backbone).splitlines()[0] == backbone.summary()
+    assert "contact lost" in backbone.table()
+
+
+# -- the command line --------------------------------------------------------------------
+def test_cli_writes_the_landed_keys(tmp_path, capsys):
     path = tmp_path / "backbone.json"
     assert main(["backbone", "--points", "7", "--json", str(path), "--quiet"]) == 0
-    payload = json.loads(path.read_text())
-    for key in ("app_m", "a1_m", "frequency_hz", "contact_lost"):
+    payload = json.loads(path.read_text(encoding="utf-8"))
+    for key in ("app_m", "a1_m", "frequency_hz", "contact_lost", "ymin_m", "ymax_m"):
         assert len(payload[key]) == 7, key
     assert payload["contact_lost"][0] is False and payload["contact_lost"][-1] is True
+    assert isinstance(load(path), Backbone)
     out = capsys.readouterr()
     assert "contact lost" in out.out and out.err == ""
 
 
-@pytest.mark.parametrize("points", ["0", "-2", "x"])
-def test_cli_bad_points_is_an_argparse_error(points, capsys):
+def test_cli_app_range_covers_a_bouncing_branch(tmp_path, capsys):
+    path = tmp_path / "backbone.json"
+    assert main(["backbone", "--app-min", "1e-8", "--app-max", "2.5e-5", "--points", "30",
+                 "--json", str(path)]) == 0
+    payload = json.loads(path.read_text(encoding="utf-8"))
+    assert payload["app_m"][0] == pytest.approx(1e-8, rel=1e-12)
+    assert payload["app_m"][-1] == pytest.approx(2.5e-5, rel=1e-12)
+    assert payload["contact_lost"][0] is False and payload["contact_lost"][-1] is True
+    assert payload["ymin_m"][-1] < 0
+    err = capsys.readouterr().err
+    assert "backbone: 30 energy levels" in err and "2.5e-05" in err
+
+
+@pytest.mark.parametrize(
+    "options, named",
+    [(["--points", "0"], "--points"), (["--points", "-2"], "--points"),
+     (["--points", "x"], "--points"), (["--app-min", "0", "--app-max", "1e-6"], "--app-min"),
+     (["--app-min", "2e-6", "--app-max", "1e-6"], "--app-max"),
+     (["--app-min", "1e-6", "--app-max", "1e-6"], "--app-max"),
+     (["--app-min", "1e-6"], "--app-max"), (["--app-max", "1e-6"], "--app-min")],
+)
+def test_cli_bad_input_is_an_argparse_error(options, named, capsys):
     # Regression: --points 0 or -2 ended in a traceback from exact_backbone.
     with pytest.raises(SystemExit) as exit_info:
-        main(["backbone", "--points", points, "--quiet"])
+        main(["backbone", *options, "--quiet"])
     assert exit_info.value.code == 2
     err = capsys.readouterr().err
-    assert "argument --points" in err and "Traceback" not in err
+    assert f"argument {named}" in err and "Traceback" not in err
+
+
+# -- the analytic-against-numerical figure -------------------------------------------------
+def test_comparison_figure_draws_the_backbone_over_the_curves_shown():
+    from types import SimpleNamespace
+
+    from numerics.plots._compare import _covering_backbone
+
+    # Curves from 20 nm up to a bouncing branch at 9 um (NaN: a point that did not settle).
+    curves = [SimpleNamespace(app_m=np.array([2e-8, np.nan, 9e-6])),
+              SimpleNamespace(app_m=np.array([5e-7]))]
+    comparison = SimpleNamespace(curves=curves,
+                                 backbone=SimpleNamespace(model=ContactModel().as_dict()))
+    backbone = _covering_backbone(comparison, None)
+    assert backbone.app_m[0] == pytest.approx(2e-8, rel=1e-12)
+    assert backbone.app_m[-1] == pytest.approx(9e-6, rel=1e-12)
+    assert backbone.contact_lost[-1]
+    # A backbone given must cover them: the default levels stop at A_pp = 4.8 um.
+    with pytest.raises(ValueError, match="`backbone` must cover"):
+        _covering_backbone(comparison, exact_backbone(points=10))
+    assert _covering_backbone(comparison, backbone) is backbone

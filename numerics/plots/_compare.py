@@ -28,12 +28,25 @@ def _backbone_errors(ax, comparison: Comparison) -> None:
     ax.legend(fontsize="small")
 
 
-def _shown_app_range(comparison: Comparison) -> tuple[float, float] | None:
-    """(least, largest) A_pp [m] of the RK4 curves the response panels show."""
-    app = np.concatenate([np.ravel(c.app_m).astype(float) for c in comparison.curves]
-                         or [np.empty(0)])
+def _app_range(curves) -> tuple[float, float] | None:
+    """(least, largest) A_pp [m] of RK4 curves (finite, > 0), or None if there is none."""
+    app = np.concatenate([np.ravel(c.app_m).astype(float) for c in curves] or [np.empty(0)])
     app = app[np.isfinite(app) & (app > 0)]
     return (float(app.min()), float(app.max())) if app.size else None
+
+
+def _shown_app_range(comparison: Comparison) -> tuple[float, float] | None:
+    """(least, largest) A_pp [m] of the RK4 curves the response panels show."""
+    return _app_range(comparison.curves)
+
+
+def _within(backbone: Backbone, shown: tuple[float, float]) -> slice:
+    """The levels of ``backbone`` that span ``shown`` (one more on each side)."""
+    inside = np.flatnonzero((backbone.app_m >= shown[0]) & (backbone.app_m <= shown[1]))
+    if inside.size == 0:
+        first = int(np.searchsorted(backbone.app_m, shown[0]))
+        return slice(max(first - 1, 0), first + 1)
+    return slice(max(inside[0] - 1, 0), inside[-1] + 2)
 
 
 def _covering_backbone(comparison: Comparison, backbone: Backbone | None) -> Backbone | None:
@@ -60,17 +73,21 @@ def _covering_backbone(comparison: Comparison, backbone: Backbone | None) -> Bac
 
 def _responses(ax, comparison: Comparison, pa_frac: float, backbone: Backbone | None) -> None:
     order = max(comparison.orders)
-    frequencies = []
+    frequencies, curves = [], []
     for model, style in (("full", dict(color="k", ms=2.5)), ("eq26", dict(color="C1", ms=1.5))):
         curve = comparison.curve(model, pa_frac)
         ax.semilogy(curve.frequency_hz, curve.app_m * 1e9, ".", label=f"RK4 {model}", **style)
         frequencies.append(np.asarray(curve.frequency_hz, dtype=float))
+        curves.append(curve)
     r = comparison.response("eq26", pa_frac, order)
     ax.semilogy(r.frequency_hz, r.series_app_m * 1e9, "o", mfc="none", color="C0", ms=4,
                 label=f"series order {order} (valid)")
-    if backbone is not None:
-        ax.semilogy(backbone.frequency_hz, backbone.app_m * 1e9, "-", color="0.45", lw=0.9,
-                    label="exact backbone")
+    shown = _app_range(curves)
+    if backbone is not None and shown is not None:
+        # Over this panel's A_pp range: the bent peak and its bouncing branches.
+        part = _within(backbone, shown)
+        ax.semilogy(backbone.frequency_hz[part], backbone.app_m[part] * 1e9, "-", color="0.45",
+                    lw=0.9, label="exact backbone")
         band = np.concatenate(frequencies)
         band = band[np.isfinite(band)]
         if band.size:

@@ -14,6 +14,10 @@ from ._simulation import Simulation
 
 __all__ = ["simulate", "check_model", "initial_lanes", "RECORDABLE"]
 
+#: The most memory the recorded observables of one run may take [bytes]: a history
+#: takes 16 bytes per lane and step, the extrema 17 bytes per lane and slot.
+MAX_RECORD_BYTES = 2**31
+
 #: The observables a run can record, and what each one stores.
 RECORDABLE = {
     "final": "state (y, v) at the end of the run",
@@ -115,6 +119,7 @@ def simulate(
         check_choice("record", name, sorted(RECORDABLE))
     max_extrema = check_int("max_extrema", max_extrema)
     f_e, p_a, y, v = initial_lanes(frequency_hz, p_a_n, y_init_m, v_init_m_s, model)
+    _check_record_size(f_e.size, names, record_periods * steps, max_extrema)
 
     start = time.perf_counter()
     lanes = Lanes(model, f_e, p_a, steps)
@@ -136,6 +141,16 @@ def simulate(
     if throw and result.failed.any():
         raise RuntimeError("; ".join(f"lane {i}: {m}" for i, m in enumerate(result.message) if m))
     return result
+
+
+def _check_record_size(lanes: int, names, steps: int, max_extrema: int) -> None:
+    """Refuse, before allocating, a recording larger than MAX_RECORD_BYTES."""
+    size = lanes * (16 * steps * ("history" in names) + 17 * max_extrema * ("extrema" in names))
+    if size > MAX_RECORD_BYTES:
+        raise ValueError(
+            f"recording {list(names)} for {lanes} lanes over {steps} steps would take "
+            f"{size / 2**30:.1f} GiB, more than the limit of {MAX_RECORD_BYTES / 2**30:g} GiB: "
+            "lower `record_periods`, `max_extrema` or the lanes, or record less.")
 
 
 def _observed(recording, names, record_periods: int, steps: int) -> dict:

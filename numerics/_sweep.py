@@ -21,6 +21,9 @@ from ._steady import DEFAULTS, steady_states
 __all__ = ["SweepRun", "Sweep", "sweep", "DIRECTIONS"]
 
 DIRECTIONS = ("up", "down", "both")
+#: The most steady states one sweep computes (points x amplitudes x directions): about
+#: 12,000 are found per second at the paper's settings, so this is a minute or two.
+MAX_STATES = 1_000_000
 
 
 @result
@@ -117,6 +120,12 @@ def sweep(
     fracs = lane_array("pa_frac", pa_frac)
     check_int("steps_per_period", steps_per_period, minimum=4)
     directions = ("up", "down") if direction == "both" else (direction,)
+    states = grid.size * fracs.size * len(directions)
+    if states > MAX_STATES:
+        raise ValueError(
+            f"`frequency_hz` x `pa_frac` x directions asks for {states} steady states, more "
+            f"than the limit of {MAX_STATES} (about 80 s at the paper's settings); split the "
+            "band or the amplitudes.")
     lanes = [(frac, d) for frac in fracs for d in directions]
     order = {"up": grid, "down": grid[::-1]}
     freq = np.array([order[d] for _, d in lanes])  # (lanes, points)

@@ -29,7 +29,7 @@ from ._backbone_series import backbone_series
 from ._lindstedt import derive
 from ._parameters import PAPER_BAND_HZ
 from ._printing import latex_report, series_json, text_report
-from ._response import frequency_response
+from ._response import MAX_FREQUENCIES, frequency_response
 
 
 def _derive(args: argparse.Namespace) -> None:
@@ -93,7 +93,7 @@ def _parser() -> argparse.ArgumentParser:
                               help="lowest excitation frequency [Hz]")
     response_cmd.add_argument("--fmax", type=positive_float, default=PAPER_BAND_HZ[1],
                               help="highest excitation frequency [Hz], above --fmin")
-    response_cmd.add_argument("--points", type=int_at_least(1), default=311,
+    response_cmd.add_argument("--points", type=int_at_least(1, MAX_FREQUENCIES), default=311,
                               help="frequencies from --fmin to --fmax")
     response_cmd.add_argument("--json", metavar="FILE", type=output_file)
     response_cmd.set_defaults(run=_response)

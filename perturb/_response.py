@@ -56,6 +56,12 @@ __all__ = ["frequency_response", "Response", "Branch"]
 #: Offsets of the extra grid points around each resonance k Omega, in units of c.
 _RESONANCE_OFFSETS = np.array([-12.0, -6.0, -3.0, -1.5, -0.75, 0.0, 0.75, 1.5, 3.0, 6.0, 12.0])
 _CHUNK = 4096
+#: Frequencies solved together: the residual grid (about 125 omega per frequency) and
+#: the waveforms (``samples`` per root) of a chunk take some 30 MB at the defaults.
+FREQUENCIES_PER_CHUNK = 2048
+#: The most frequencies one call takes: the result alone holds about 70 bytes per
+#: root and branch (some 200 MB at this limit); a larger band is split by the caller.
+MAX_FREQUENCIES = 1_000_000
 
 
 @result
@@ -396,8 +402,15 @@ def truncation_error(order, values, G, Omega, rows, roots, base, app) -> np.ndar
 
 def _check_frequencies(frequency_hz) -> np.ndarray:
     freq = lane_array("frequency_hz", frequency_hz, positive=True)
-    if np.any(np.diff(freq) <= 0):
-        raise ValueError(f"`frequency_hz` must be strictly increasing, got {frequency_hz!r}.")
+    if freq.size > MAX_FREQUENCIES:
+        raise ValueError(
+            f"`frequency_hz` has {freq.size} points, more than the limit of {MAX_FREQUENCIES}: "
+            "the result alone would take some 200 bytes per point; split the band.")
+    step = np.diff(freq)
+    if np.any(step <= 0):
+        i = int(np.argmax(step <= 0))
+        raise ValueError(f"`frequency_hz` must be strictly increasing, got {freq[i]!r} then "
+                         f"{freq[i + 1]!r} at index {i + 1}.")
     return freq
 
 
@@ -475,12 +488,12 @@ def frequency_response(
     if G == 0:
         branches = [_at_rest(freq, values.omega0_rad_s)]
     else:
-        rows, roots = _roots(formulas, values, G, Omega, order, omega_range, grid_points)
-        a0 = G / np.hypot(roots**2 - Omega[rows] ** 2, 2 * values.c_per_s * Omega[rows])
-        u = _waveform(formulas, values, a0, roots, Omega[rows], samples)  # order N, once
-        u_max, u_min = _extrema(u)
-        error = truncation_error(order, values, G, Omega, rows, roots, u, u_max - u_min)
-        valid = (values.y0_m + u_min > 0) & (error < tolerance)
+        # Frequencies are independent: solved a chunk at a time, memory stays bounded.
+        parts = [_solve_chunk(formulas, values, G, Omega[chunk], order, omega_range,
+                              grid_points, samples, tolerance, chunk.start)
+                 for chunk in _chunks(freq.size, FREQUENCIES_PER_CHUNK)]
+        rows, roots, a0, u_min, u_max, valid, error = (np.concatenate(column)
+                                                       for column in zip(*parts))
         branches = _branches(freq, rows, roots, a0, u_min, u_max, valid, error)
     return Response(
         order=order,
@@ -492,6 +505,23 @@ def frequency_response(
                   "samples": samples, "tolerance": tolerance},
         elapsed_s=time.perf_counter() - start,
     )
+
+
+def _chunks(size: int, chunk: int) -> list[slice]:
+    return [slice(start, min(start + chunk, size)) for start in range(0, size, chunk)]
+
+
+def _solve_chunk(formulas, values, G, Omega, order, omega_range, grid_points, samples,
+                 tolerance, offset: int) -> tuple[np.ndarray, ...]:
+    """Every root of the frequencies ``Omega``, with App, extrema, validity and error;
+    rows count from ``offset``."""
+    rows, roots = _roots(formulas, values, G, Omega, order, omega_range, grid_points)
+    a0 = G / np.hypot(roots**2 - Omega[rows] ** 2, 2 * values.c_per_s * Omega[rows])
+    u = _waveform(formulas, values, a0, roots, Omega[rows], samples)  # order N, once
+    u_max, u_min = _extrema(u)
+    error = truncation_error(order, values, G, Omega, rows, roots, u, u_max - u_min)
+    valid = (values.y0_m + u_min > 0) & (error < tolerance)
+    return rows + offset, roots, a0, u_min, u_max, valid, error
 
 
 def _eq26_model(parameters: ContactParameters) -> dict:

@@ -96,3 +96,53 @@ def test_the_census_at_too_few_steps_lists_no_spurious_attractor():
     assert len(labels) == len(set(labels))
     assert census.lanes.status.tolist().count(Status.UNDER_RESOLVED) > 0
     assert "under-resolved" in str(census)
+
+
+def test_sizes_beyond_the_limits_are_refused_before_any_work():
+    # Regression: a response of 10^7 points allocated until the machine killed it, and
+    # a sweep of 10^7 points was accepted and ran for an hour.
+    import time
+
+    import pytest
+
+    from numerics import simulate
+    from perturb import frequency_response
+
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match="more than the limit of 1000000"):
+        frequency_response(np.linspace(250.0, 1800.0, 1_000_001), 0.05)
+    with pytest.raises(ValueError, match="more than the limit of 1000000"):
+        sweep(np.linspace(250.0, 1800.0, 600_000), 0.05)
+    with pytest.raises(ValueError, match="GiB, more than the limit"):
+        simulate(np.full(10_000, 1000.0), 0.1, periods=200, record_periods=200,
+                 record=("history",))
+    assert time.perf_counter() - start < 2.0
+
+
+def test_the_response_in_chunks_equals_the_response_at_once(monkeypatch):
+    # Frequencies are solved a chunk at a time, so that memory stays bounded.
+    import perturb._response as response
+
+    f = np.linspace(1300.0, 1500.0, 301)
+    whole = response.frequency_response(f, 0.05, 4)
+    monkeypatch.setattr(response, "FREQUENCIES_PER_CHUNK", 7)
+    chunked = response.frequency_response(f, 0.05, 4)
+    assert len(chunked.branches) == len(whole.branches)
+    for a, b in zip(chunked.branches, whole.branches):
+        assert np.array_equal(a.app_m, b.app_m) and np.array_equal(a.valid, b.valid)
+
+
+def test_the_commands_refuse_sizes_beyond_the_limits(capsys):
+    import pytest
+
+    from numerics.cli import main as numerics_main
+    from perturb.__main__ import main as perturb_main
+
+    for main, argv, option in [
+        (perturb_main, ["response", "--pa-frac", "0.1", "--points", "10000001"], "--points"),
+        (numerics_main, ["sweep", "--points", "2000000"], "--points"),
+        (numerics_main, ["sweep", "--points", "100000"], "--points x --pa-frac"),
+    ]:
+        with pytest.raises(SystemExit) as exit_:
+            main(argv)
+        assert exit_.value.code == 2 and option in capsys.readouterr().err

@@ -11,7 +11,7 @@ from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS
 
 from .._attractors import attractors
 from .._steady import DEFAULTS
-from .._sweep import DIRECTIONS, sweep
+from .._sweep import DIRECTIONS, MAX_STATES, sweep
 
 __all__ = ["add_sweep_parser", "add_attractors_parser"]
 
@@ -33,7 +33,7 @@ def add_sweep_parser(sub) -> None:
                         help="force amplitudes P_a / Q (default: the paper's ten)")
     parser.add_argument("--fmin", type=positive_float, default=PAPER_BAND_HZ[0], help="[Hz]")
     parser.add_argument("--fmax", type=positive_float, default=PAPER_BAND_HZ[1], help="[Hz]")
-    parser.add_argument("--points", type=int_at_least(2), default=311)
+    parser.add_argument("--points", type=int_at_least(2, MAX_STATES), default=311)
     parser.add_argument("--direction", choices=DIRECTIONS, default="both")
     parser.add_argument("--plot", metavar="FILE.png", type=output_file,
                         help="Fig. 2 there, and Fig. 3 beside it (FILE-extrema.png)")
@@ -44,6 +44,10 @@ def add_sweep_parser(sub) -> None:
 def _sweep(args: argparse.Namespace) -> int:
     if not args.fmin < args.fmax:
         args.parser.error(f"--fmin must be below --fmax, got {args.fmin} and {args.fmax}")
+    states = args.points * len(args.pa_frac) * (2 if args.direction == "both" else 1)
+    if states > MAX_STATES:
+        args.parser.error(f"--points x --pa-frac x directions asks for {states} steady states, "
+                          f"more than the limit of {MAX_STATES}; split the band")
     result = sweep(np.linspace(args.fmin, args.fmax, args.points), args.pa_frac,
                    direction=args.direction, steps_per_period=args.steps, tol=args.tol,
                    quiet=args.quiet)

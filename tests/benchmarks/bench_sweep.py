@@ -73,8 +73,10 @@ def dop853(result) -> float:
 
 def main() -> None:
     job = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS)  # noqa: E731
+    unchecked = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS, app_rtol=None)  # noqa: E731
     result = job()
-    warm = median_time(job, repeats=3)
+    warm = median_time(job, repeats=5)
+    warm_unchecked = median_time(unchecked, repeats=5)
     cold = cold_start()
     brute, brute_gap = brute_force(result)
     scipy_s = dop853(result)
@@ -85,6 +87,8 @@ def main() -> None:
         higher_is_better=False)
     row("shooting sweep, kernels cached [s] vs DOP853", warm, scipy_s, "s",
         higher_is_better=False)
+    row("with the step-error check [s] vs without (goal >= 0.83x)", warm, warm_unchecked, "s",
+        higher_is_better=False)
     row("cold start: import + compile + job [s]", cold, None, "s")
     row("goals: warm [s], cold [s]", 1.0, None)
     row("", 15.0, None)
@@ -92,8 +96,8 @@ def main() -> None:
           f"({brute / len(result.runs) * 2:.1f} s), extrapolated to {len(result.runs)}; "
           f"largest App difference to the fast sweep: {brute_gap:.2e} (relative)")
     print(f"DOP853 (rtol 1e-9): {DOP853_POINTS} points timed, extrapolated to {points}")
-    unsettled = sum(not s for r in result.runs for s in r.settled)
-    print(f"not settled: {unsettled} of {points} points")
+    refined = sum(int((r.steps_used > r.steps_used.min()).sum()) for r in result.runs)
+    print(f"{result.summary()}; {refined} points refined by the step-error check")
 
 
 if __name__ == "__main__":

@@ -123,9 +123,9 @@ def attractors(
     *,
     model: ContactModel | None = None,
     grid: dict | None = None,
-    steps_per_period: int = DEFAULTS["steps_per_period"],
+    steps_per_period: int | str = DEFAULTS["steps_per_period"],
     tol: float = DEFAULTS["tol"],
-    max_periods: int = DEFAULTS["max_periods"],
+    max_periods: int | None = DEFAULTS["max_periods"],
 ) -> Census:
     """Find and cluster the steady states reached from a grid of initial states.
 

@@ -140,7 +140,10 @@ class Orbits(Result):
             new = getattr(other, name)
             if isinstance(value, np.ndarray):
                 value[index] = new
-            elif value is not None and new is not None:
+            elif new is not None:
+                if value is None:  # the first part that keeps this column
+                    value = [np.empty(0)] * self.status.size
+                    setattr(self, name, value)
                 for j, i in enumerate(np.asarray(index)):
                     value[i] = new[j]
 

@@ -30,10 +30,20 @@ from ._simulate import check_model, initial_lanes
 __all__ = ["SteadyStates", "steady_states", "DEFAULTS"]
 
 #: Defaults chosen for 0.5 % accuracy of App (tests/test_steady.py shows it).
-DEFAULTS = {"steps_per_period": 128, "tol": 1e-6, "app_rtol": 5e-3, "max_periods": 1200,
+DEFAULTS = {"steps_per_period": "auto", "tol": 1e-6, "app_rtol": 5e-3, "max_periods": None,
             "refinements": 2}
 PERIODS_TRIED = (1, 2, 4, 8)
 _CHUNK = 16  # periods marched between settling checks
+_LONGEST_CHUNK = 4096  # ... and at most this many, far past the default cap
+#: The settling cap, in decay times 1/c of the linearised contact (Eq. 2.6): a linear
+#: transient falls by e^-30 = 1e-13 in it. By default a lane marches for this long, but
+#: at least _CAP_PERIODS[0] periods (bouncing orbits dissipate little in short impacts)
+#: and at most _CAP_PERIODS[1] (with next to no damping: bounded time, not a hang).
+_DECAY_TIMES = 30
+_CAP_PERIODS = (1200, 120_000)
+#: Steps per period follow f_e by default: at least 128, and enough that omega0 * dt
+#: is at most this (a period at low f_e holds many natural oscillations).
+_AUTO_OMEGA0_DT = 0.5
 _NEWTON_ITERATIONS = 10
 _SPAN_FLOOR = 1e-3  # of y0: the smallest length scale of the settling test
 _REACH_CONTINUATION = 0.5  # how far (relative to App) Newton may move a sweep's guess
@@ -139,12 +149,14 @@ class _Batch(Lanes):
         after = self.distance(lanes, ym - y_orbit, vm - v_orbit, scale)
         return (after < _VERIFY_SHRINK * before) | (after < self.tol)
 
-    def march(self, lanes, y, v, max_periods, failed_period):
-        """Time-march lanes until their stroboscopic state repeats; lanes stop when settled.
+    def march(self, lanes, y, v, cap, failed_period):
+        """Time-march lanes until their stroboscopic state repeats; lanes stop when settled
+        or at their ``cap`` of periods (one per lane).
 
         Returns the period found (0: not settled), the states, and the last span."""
         k = self.kernels
         lanes = np.asarray(lanes)
+        cap = np.broadcast_to(cap, lanes.shape)
         period = np.zeros(lanes.shape[0], dtype=np.int64)
         last_span = np.zeros(lanes.shape[0])
         y, v = y.copy(), v.copy()
@@ -152,17 +164,24 @@ class _Batch(Lanes):
         tail_v = tail_y.copy()
         active = np.arange(lanes.shape[0])
         done = 0
-        while active.size and done < max_periods:
+        while True:
+            within = done < cap[active]
+            active, tail_y, tail_v = active[within], tail_y[within], tail_v[within]
+            if not active.size:
+                break
+            # 16 periods between checks; past the default cap, a quarter of the periods
+            # run so far, so that a slow transient takes few calls.
+            chunk = _CHUNK if done < _CAP_PERIODS[0] else min(done // 4, _LONGEST_CHUNK)
             idx = lanes[active]
-            sy, sv = np.empty((active.size, _CHUNK)), np.empty((active.size, _CHUNK))
+            sy, sv = np.empty((active.size, chunk)), np.empty((active.size, chunk))
             span = np.empty(active.size)
             ya, va, fp = y[active], v[active], failed_period[idx]
-            k.strobe_periods(ya, va, self.dt[idx], self.p_a[idx], self.drive, _CHUNK, sy, sv,
+            k.strobe_periods(ya, va, self.dt[idx], self.p_a[idx], self.drive, chunk, sy, sv,
                              span, fp, done, self.limit[idx])
             y[active], v[active], failed_period[idx] = ya, va, fp
             last_span[active] = span
-            self.periods_run[idx] += _CHUNK
-            done += _CHUNK
+            self.periods_run[idx] += chunk
+            done += chunk
             # The last few stroboscopic samples of each active lane, aligned with `active`.
             keep_last = max(PERIODS_TRIED) + 3
             tail_y = np.concatenate([tail_y, sy], axis=1)[:, -keep_last:]
@@ -231,10 +250,10 @@ def steady_states(
     v_init_m_s=None,
     period_guess=1,
     app_guess_m=None,
-    steps_per_period: int = DEFAULTS["steps_per_period"],
+    steps_per_period: int | str = DEFAULTS["steps_per_period"],
     tol: float = DEFAULTS["tol"],
     app_rtol: float | None = DEFAULTS["app_rtol"],
-    max_periods: int = DEFAULTS["max_periods"],
+    max_periods: int | None = DEFAULTS["max_periods"],
     method: str = "newton",
     refinements: int = DEFAULTS["refinements"],
     keep_orbits: bool = False,
@@ -257,8 +276,10 @@ def steady_states(
         App of that orbit [m]. When given, Newton shooting starts from the
         initial states and keeps a result only if it is stable and close to the
         start (continuation); other lanes are time-marched, then polished.
-    steps_per_period : int
-        RK4 steps per excitation period.
+    steps_per_period : int or "auto"
+        RK4 steps per excitation period; "auto" (the default) follows f_e: at least
+        128, and a power of two large enough that omega0 * dt <= 0.5 (a period at a
+        low f_e holds many natural oscillations: 32768 steps at 1 Hz).
     tol : float
         Relative tolerance of the stroboscopic repeat.
     app_rtol : float or None
@@ -266,8 +287,11 @@ def steady_states(
         A settled lane above it is solved again with more steps (``refinements``)
         and, if still above, has the status ``Status.UNDER_RESOLVED`` and a message.
         None: no estimate is made (``error_estimate`` is NaN: not estimated).
-    max_periods : int
-        Cap of time marching per lane; lanes still moving are not settled.
+    max_periods : int or None
+        Cap of time marching per lane, in periods. None (the default): a time, 30
+        decay times 1/c of the linearised contact (a transient lasts many periods at
+        a high f_e), but at least 1,200 and at most 120,000 periods. Lanes still
+        moving at the cap are not settled.
     method : {"newton", "march"}
         Newton shooting with time marching as the fallback, or time marching only
         (the paper's method as it stands; for checks and baselines).
@@ -296,8 +320,8 @@ def steady_states(
     """
     check_choice("method", method, ("newton", "march"))
     model = check_model(model)
-    steps = check_int("steps_per_period", steps_per_period, minimum=4)
-    max_periods = check_int("max_periods", max_periods)
+    check_steps(steps_per_period)
+    max_periods = None if max_periods is None else check_int("max_periods", max_periods)
     refinements = check_int("refinements", refinements, minimum=0)
     tol = check_positive("tol", tol)
     app_rtol = None if app_rtol is None else check_positive("app_rtol", app_rtol)
@@ -308,29 +332,64 @@ def steady_states(
         frequency_hz, p_a_n, y_init_m, v_init_m_s, model, period_guess=guesses.astype(np.int64),
         app_guess_m=lane_array("app_guess_m", 0.0 if app_guess_m is None else app_guess_m))
     start = time.perf_counter()
-    solve = dict(model=model, tol=tol, app_rtol=app_rtol, max_periods=max_periods,
-                 method=method, continuation=app_guess_m is not None, keep_orbits=keep_orbits)
+    numbers = eq26_numbers(model.parameters)
+    steps = lane_steps(steps_per_period, f_e, numbers.omega0_rad_s)
+    if max_periods is None:  # the settling cap is a time: _DECAY_TIMES decay times 1/c
+        cap = np.clip(np.ceil(_DECAY_TIMES * f_e / numbers.c_per_s), *_CAP_PERIODS)
+    else:
+        cap = np.full(f_e.shape, max_periods)
+    cap = cap.astype(np.int64)
+    solve = dict(model=model, tol=tol, app_rtol=app_rtol, cap=cap, method=method,
+                 continuation=app_guess_m is not None, keep_orbits=keep_orbits)
     lanes = np.arange(f_e.shape[0])
-    state = _solve(lanes, f_e, p_a, y, v, guess, span, steps=steps, **solve)
+    state = _solve_by_steps(lanes, steps, f_e, p_a, y, v, guess, span, **solve)
     for level in range(1, refinements + 1):
-        # A lane that failed, did not settle or settled with p > 1 may be under-resolved
-        # (a short impact takes few steps); it is solved again with twice the steps.
+        # A lane that failed, did not settle, settled with p > 1 or too coarsely may be
+        # under-resolved (a short impact takes few steps): solved again with twice the steps.
         redo = np.flatnonzero(~state.settled | (state.period > 1)
                               | (state.status == Status.UNDER_RESOLVED))
         if not redo.size:
             break
-        finer = _solve(redo, f_e, p_a, y, v, guess, span, steps=steps * 2**level, **solve)
+        finer = _solve_by_steps(redo, steps * 2**level, f_e, p_a, y, v, guess, span, **solve)
         _merge(state, redo, finer)
-    settings = {"steps_per_period": steps, "tol": tol, "app_rtol": app_rtol,
+    settings = {"steps_per_period": steps_per_period, "tol": tol, "app_rtol": app_rtol,
                 "max_periods": max_periods, "method": method, "refinements": refinements}
     return SteadyStates(**state.columns(), model=model.as_dict(), settings=settings,
                         elapsed_s=time.perf_counter() - start)
 
 
-def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, max_periods,
-           method, continuation, keep_orbits) -> Orbits:
+def check_steps(steps_per_period) -> None:
+    """``"auto"`` or an integer >= 4, or a ValueError naming the argument."""
+    if steps_per_period != "auto":
+        check_int("steps_per_period", steps_per_period, minimum=4)
+
+
+def lane_steps(steps_per_period, frequency_hz: np.ndarray, omega0_rad_s: float) -> np.ndarray:
+    """Steps per period of each lane: as given, or with "auto" at least 128 and a power
+    of two large enough that omega0 * dt <= _AUTO_OMEGA0_DT (at 1 Hz: 32768)."""
+    if steps_per_period != "auto":
+        return np.full(frequency_hz.shape, int(steps_per_period), dtype=np.int64)
+    needed = omega0_rad_s / (_AUTO_OMEGA0_DT * frequency_hz)
+    return np.maximum(128, 2 ** np.ceil(np.log2(needed))).astype(np.int64)
+
+
+def _solve_by_steps(lanes, steps, f_e, p_a, y, v, guess, span, **solve) -> Orbits:
+    """``_solve`` for lanes whose steps per period differ: a pass per step count."""
+    counts = np.unique(steps[lanes])
+    if counts.size == 1:
+        return _solve(lanes, f_e, p_a, y, v, guess, span, steps=int(counts[0]), **solve)
+    state = Orbits.empty(f_e[lanes], p_a[lanes], 0)
+    for n in counts:
+        group = np.flatnonzero(steps[lanes] == n)
+        state.put(group, _solve(lanes[group], f_e, p_a, y, v, guess, span, steps=int(n),
+                                **solve))
+    return state
+
+
+def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, cap, method,
+           continuation, keep_orbits) -> Orbits:
     """One pass at a fixed step: Newton continuation, then marching and polishing."""
-    f_e, p_a, y, v, guess, span = (a[lanes] for a in (f_e, p_a, y, v, guess, span))
+    f_e, p_a, y, v, guess, span, cap = (a[lanes] for a in (f_e, p_a, y, v, guess, span, cap))
     batch = _Batch(model, f_e, p_a, steps, tol)
     state = Orbits.empty(f_e, p_a, steps)
     failed_period = np.full(lanes.size, -1, dtype=np.int64)
@@ -345,7 +404,7 @@ def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, m
             _accept(state, group[ok], yn[ok], vn[ok], int(p), mult[ok], "newton")
     rest = np.flatnonzero(~state.settled)
     if rest.size:
-        period, ym, vm, span_m = batch.march(rest, y[rest], v[rest], max_periods, failed_period)
+        period, ym, vm, span_m = batch.march(rest, y[rest], v[rest], cap[rest], failed_period)
         state.y_start_m[rest], state.v_start_m_s[rest] = ym, vm
         for p in np.unique(period[period > 0]):
             chosen = period == p
@@ -361,7 +420,7 @@ def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, m
     if app_rtol is not None:
         _estimate_step_error(batch, state)
     state.periods_run += batch.periods_run
-    _fate(state, batch, failed_period, max_periods, app_rtol)
+    _fate(state, batch, failed_period, cap, app_rtol)
     return state
 
 
@@ -374,7 +433,7 @@ def _accept(state: Orbits, lanes, y, v, p, multipliers, method) -> None:
     state.method[lanes] = method
 
 
-def _fate(state: Orbits, batch: _Batch, failed_period, max_periods: int,
+def _fate(state: Orbits, batch: _Batch, failed_period, cap: np.ndarray,
           app_rtol: float) -> None:
     """Status and message of the lanes that did not settle, or settled too coarsely."""
     too_coarse = (np.zeros(state.status.size, dtype=bool) if app_rtol is None
@@ -396,7 +455,7 @@ def _fate(state: Orbits, batch: _Batch, failed_period, max_periods: int,
             if message:
                 state.message[lane] = message
     for lane in np.flatnonzero((state.status == Status.NOT_SETTLED) & ~failed):
-        state.message[lane] = (f"not settled within {max_periods} periods (quasi-periodic, "
+        state.message[lane] = (f"not settled within {cap[lane]} periods (quasi-periodic, "
                                "chaotic, or a slow transient)")
 
 

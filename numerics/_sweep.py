@@ -16,7 +16,7 @@ from perturb import ContactModel, eq26_numbers
 
 from ._orbits import Orbits
 from ._simulate import check_model
-from ._steady import DEFAULTS, steady_states
+from ._steady import DEFAULTS, check_steps, steady_states
 
 __all__ = ["SweepRun", "Sweep", "sweep", "DIRECTIONS"]
 
@@ -83,10 +83,10 @@ def sweep(
     *,
     direction: str = "both",
     model: ContactModel | None = None,
-    steps_per_period: int = DEFAULTS["steps_per_period"],
+    steps_per_period: int | str = DEFAULTS["steps_per_period"],
     tol: float = DEFAULTS["tol"],
     app_rtol: float | None = DEFAULTS["app_rtol"],
-    max_periods: int = DEFAULTS["max_periods"],
+    max_periods: int | None = DEFAULTS["max_periods"],
     method: str = "newton",
     refinements: int = DEFAULTS["refinements"],
     quiet: bool = True,
@@ -118,7 +118,7 @@ def sweep(
     if grid.size > 1 and np.any(np.diff(grid) <= 0):
         raise ValueError("`frequency_hz` must be strictly increasing.")
     fracs = lane_array("pa_frac", pa_frac)
-    check_int("steps_per_period", steps_per_period, minimum=4)
+    check_steps(steps_per_period)
     directions = ("up", "down") if direction == "both" else (direction,)
     states = grid.size * fracs.size * len(directions)
     if states > MAX_STATES:

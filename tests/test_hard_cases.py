@@ -14,11 +14,14 @@ from numerics import Status, attractors, sweep
 
 
 def test_a_failed_point_does_not_poison_the_sweep():
-    # Regression: at 1 Hz the default step makes omega0*dt far too large; the lane
+    # Regression: at 1 Hz, 128 steps per period make omega0*dt far too large; the lane
     # diverged to a huge but finite state, the next point started from it, and every
-    # later point came back NaN and "not settled".
-    alone = sweep(np.array([300.0, 310.0, 320.0]), 0.1, direction="up").runs[0]
-    after = sweep(np.array([1.0, 300.0, 310.0, 320.0]), 0.1, direction="up").runs[0]
+    # later point came back NaN and "not settled". (The default "auto" steps would
+    # take 32768 steps at 1 Hz; 128 are asked for here to make the lane fail.)
+    alone = sweep(np.array([300.0, 310.0, 320.0]), 0.1, direction="up",
+                  steps_per_period=128).runs[0]
+    after = sweep(np.array([1.0, 300.0, 310.0, 320.0]), 0.1, direction="up",
+                  steps_per_period=128).runs[0]
     assert after.status.tolist() == [Status.FAILED, 0, 0, 0]
     assert "omega0*dt" in after.message[0] and "raise steps_per_period" in after.message[0]
     assert np.array_equal(after.app_m[1:], alone.app_m)
@@ -27,8 +30,8 @@ def test_a_failed_point_does_not_poison_the_sweep():
 def test_the_sweep_json_says_which_point_failed(tmp_path):
     target = tmp_path / "s.json"
     subprocess.run([sys.executable, "-m", "numerics", "sweep", "--pa-frac", "0.1", "--fmin", "1",
-                    "--fmax", "301", "--points", "2", "--direction", "up", "--json", str(target),
-                    "--quiet"], check=True, capture_output=True)
+                    "--fmax", "301", "--points", "2", "--direction", "up", "--steps", "128",
+                    "--json", str(target), "--quiet"], check=True, capture_output=True)
     run = json.loads(target.read_text())["runs"][0]  # json.loads rejects bare NaN tokens
     assert run["status"] == [-1, 0] and run["app_m"][0] is None and run["settled"] == [False, True]
 
@@ -146,3 +149,50 @@ def test_the_commands_refuse_sizes_beyond_the_limits(capsys):
         with pytest.raises(SystemExit) as exit_:
             main(argv)
         assert exit_.value.code == 2 and option in capsys.readouterr().err
+
+
+def test_the_steps_follow_f_e_and_the_cap_follows_the_decay_time():
+    # Regression: at 1 Hz the fixed 128 steps per period gave omega0*dt ~ 70 and the
+    # lane diverged; at 20 kHz the transient outlived the 1,200-period cap.
+    from numerics import steady_states
+    from perturb import PAPER
+
+    found = steady_states([1.0, 100.0, 1000.0, 20_000.0], 0.1 * PAPER.Q_n)
+    assert found.settled.all(), found.message
+    assert found.steps_used.tolist() == [32768, 256, 128, 128]
+    assert found.periods_run[-1] > 1200  # it marched past the old cap
+
+
+def test_quasi_static_and_inertia_dominated_limits_match_closed_forms():
+    # f_e << f_n0: the slider follows the static deflection under Q +- P_a, so
+    # App = ((Q + P_a)^(1/m2) - (Q - P_a)^(1/m2)) / (S c_n)^(1/m2) (Eq. 2.1 at rest).
+    # f_e >> f_n0: inertia dominates and the response is linear, App = 2 G / |omega0^2
+    # - Omega^2 + 2 i c Omega| (Eq. 2.6 without its quadratic term).
+    from numerics import steady_states
+    from perturb import PAPER, eq26_numbers
+
+    p = PAPER
+    p_a = 0.1 * p.Q_n
+    static = ((p.Q_n + p_a) ** (1 / p.m2) - (p.Q_n - p_a) ** (1 / p.m2)) / (p.S * p.c_n) ** (
+        1 / p.m2)
+    numbers = eq26_numbers()
+    big = 2 * np.pi * 1e6
+    linear = 2 * numbers.G_per_P_a * p_a / abs(numbers.omega0_rad_s**2 - big**2
+                                              + 2j * numbers.c_per_s * big)
+    found = steady_states([1.0, 1e6], p_a)
+    assert found.settled.all()
+    # At 1 Hz inertia still adds (f_e / f_n0)^2 ~ 5e-7 to the static answer (measured
+    # 2e-6 with the settling tolerance); at 1 MHz the quadratic term adds ~ App / y0.
+    assert abs(found.app_m[0] / static - 1) < 1e-5, found.app_m[0] / static - 1
+    assert abs(found.app_m[1] / linear - 1) < 1e-5, found.app_m[1] / linear - 1
+
+
+def test_from_1_hz_to_1_mhz_every_point_is_settled_or_says_why():
+    from numerics import steady_states
+    from perturb import PAPER
+
+    f = np.geomspace(1.0, 1e6, 13)
+    found = steady_states(f, 0.1 * PAPER.Q_n)
+    assert np.all(np.isfinite(found.app_m[found.settled]))
+    assert all(m for s, m in zip(found.status, found.message) if s != Status.SUCCESS)
+    assert found.settled.mean() > 0.9, list(zip(f, found.status, found.message))

@@ -16,9 +16,14 @@ from .._sweep import DIRECTIONS, MAX_STATES, sweep
 __all__ = ["add_sweep_parser", "add_attractors_parser"]
 
 
+def _steps(text: str) -> int | str:
+    return "auto" if text == "auto" else int_at_least(4)(text)
+
+
 def _accuracy_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--steps", type=int_at_least(4), default=DEFAULTS["steps_per_period"],
-                        help="RK4 steps per period (default %(default)s)")
+    parser.add_argument("--steps", type=_steps, default=DEFAULTS["steps_per_period"],
+                        help="RK4 steps per period, an integer >= 4 or 'auto' (at least 128, "
+                        "more at low f_e; the default)")
     parser.add_argument("--tol", type=positive_float, default=DEFAULTS["tol"],
                         help="relative settling tolerance (default %(default)s)")
     parser.add_argument("--json", metavar="FILE", type=output_file,

@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from common import Result, check_choice, check_int, lane_array, lookup, progress, result
+from common import Result, check_choice, lane_array, lookup, progress, result
 from perturb import ContactModel, eq26_numbers
 
 from ._orbits import Orbits

@@ -8,9 +8,8 @@ import time
 from pathlib import Path
 
 from common import write_json
-from numerics.cli._info import format_info
-
 from numerics._compare_table import format_comparison
+from numerics.cli._info import format_info
 from perturb import text_report
 
 from ._claims import Claim

@@ -61,14 +61,18 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "history_y_m": ("y after every step of the recorded periods", "m", ""),
     "history_v_m_s": ("dy/dt after every step of the recorded periods", "m/s", ""),
     # -- accuracy and cost
-    "steps_per_period": ("RK4 steps per excitation period asked for", "1", "Section 2"),
+    "steps_per_period": ("RK4 steps per excitation period asked for ('auto': at least 128, "
+                         "and omega0 dt <= 0.5)", "1", "Section 2"),
+    "app_rtol": ("bound on App's estimated relative step error; above it a lane is refined, "
+                 "then under-resolved", "1", ""),
     "steps_used": ("RK4 steps per period a lane's result comes from (after refinement)", "1",
                    ""),
     "periods": ("excitation periods run in all", "1", ""),
     "record_periods": ("final periods the recorded observables cover", "1", ""),
     "periods_run": ("excitation periods integrated for a lane (its cost)", "1", ""),
     "tol": ("relative tolerance of the settling test", "1", ""),
-    "max_periods": ("cap of time marching per lane", "1", ""),
+    "max_periods": ("cap of time marching per lane, in periods (None: 30 decay times 1/c)",
+                    "1", ""),
     "refinements": ("how many times an unsettled, failed or p > 1 lane is solved again with "
                     "twice the steps", "1", ""),
     "tolerance": ("a relative error bound (validity of a series, parting of two models)", "1",

@@ -20,10 +20,19 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
-from common import int_at_least, nonnegative_float, note, output_file, positive_float, write_json
+from common import (
+    int_at_least,
+    nonnegative_float,
+    note,
+    output_file,
+    positive_float,
+    progress,
+    write_json,
+)
 
 from ._backbone_series import backbone_series
 from ._lindstedt import derive
@@ -31,20 +40,37 @@ from ._parameters import PAPER_BAND_HZ
 from ._printing import latex_report, series_json, text_report
 from ._response import MAX_FREQUENCIES, frequency_response
 
+#: Above this order the closed forms take minutes to simplify and print; measured with
+#: `python -m perturb derive --order N` on the 2-core machine (see the note).
+SLOW_PRINT_ORDER = 20
+SLOW_PRINT_EXAMPLE = "measured: order 16 7 s, order 20 17 s, order 24 26 s"
+
 
 def _derive(args: argparse.Namespace) -> None:
-    start = time.perf_counter()
-    note(f"deriving Eq. 2.6 to order {args.order} ...", quiet=args.quiet)
-    series = derive(args.order)
-    note(f"derived in {time.perf_counter() - start:.2f} s", quiet=args.quiet)
-    print(text_report(series, pretty=args.pretty), end="")
+    stages = []  # (stage, seconds): every stage that ran, timed on its own
+
+    def timed(stage, work):
+        start = time.perf_counter()
+        out = work()
+        stages.append((stage, time.perf_counter() - start))
+        return out
+
+    if args.order > SLOW_PRINT_ORDER:
+        note(f"order {args.order}: the closed forms take half a minute to minutes to simplify "
+             f"and print (above order {SLOW_PRINT_ORDER}; {SLOW_PRINT_EXAMPLE})",
+             quiet=args.quiet)
+    series = timed("derivation", lambda: derive(args.order))
+    bar = progress(args.order + 1, "closed forms and text, order by order", quiet=args.quiet)
+    text = timed("closed forms and text",
+                 lambda: text_report(series, pretty=args.pretty, each_order=bar.update))
+    bar.close()
+    print(text, end="")
     if args.latex:
-        with open(args.latex, "w", encoding="utf-8") as handle:
-            handle.write(latex_report(series))
-        note(f"wrote {args.latex}", quiet=args.quiet)
+        latex = timed("LaTeX", lambda: latex_report(series))
+        Path(args.latex).write_text(latex, encoding="utf-8")
     if args.json:
-        write_json(args.json, series_json(series))
-        note(f"wrote {args.json}", quiet=args.quiet)
+        timed("JSON", lambda: write_json(args.json, series_json(series)))
+    note("; ".join(f"{stage} {seconds:.2f} s" for stage, seconds in stages), quiet=args.quiet)
 
 
 def _backbone(args: argparse.Namespace) -> None:

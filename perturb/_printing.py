@@ -117,7 +117,7 @@ def _line(left: sp.Expr, right: sp.Expr, pretty: bool) -> str:
     return f"{sp.sstr(left)} = {sp.sstr(right)}"
 
 
-def text_report(series: Series, *, pretty: bool = False) -> str:
+def text_report(series: Series, *, pretty: bool = False, each_order=None) -> str:
     """The derivation as text, order by order.
 
     Parameters
@@ -126,6 +126,9 @@ def text_report(series: Series, *, pretty: bool = False) -> str:
     pretty : bool
         Two-dimensional unicode formulas (``sympy.pretty``) instead of one-line
         expressions.
+    each_order : callable, optional
+        Called with no argument after each order is written (for progress: the
+        closed forms of high orders take long to simplify and print).
     """
     _check_series(series)
 
@@ -144,6 +147,8 @@ def text_report(series: Series, *, pretty: bool = False) -> str:
         lines.append(f"  {_left_side_text(n)} = {sp.sstr(generic_right_side(n))}")
         for label, left, right in _order_items(series, n):
             lines += block(left, right, "    " if label == "closed form" else "  ")
+        if each_order is not None:
+            each_order()
     lines.append("-- transfer functions")
     for left, right in _transfer_lines(series):
         lines += block(left, right, "  ")

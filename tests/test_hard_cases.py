@@ -196,3 +196,35 @@ def test_from_1_hz_to_1_mhz_every_point_is_settled_or_says_why():
     assert np.all(np.isfinite(found.app_m[found.settled]))
     assert all(m for s, m in zip(found.status, found.message) if s != Status.SUCCESS)
     assert found.settled.mean() > 0.9, list(zip(f, found.status, found.message))
+
+
+def test_next_to_no_damping_ends_in_bounded_time_not_settled():
+    # h_n a million-millionth of the paper's: the decay time is far beyond any cap, so
+    # the lane marches to the 120,000-period bound and says it did not settle.
+    import time
+
+    from numerics import steady_states
+    from perturb import PAPER, ContactModel, ContactParameters
+
+    start = time.perf_counter()
+    found = steady_states(740.0, 0.15 * PAPER.Q_n, refinements=0,
+                          model=ContactModel(ContactParameters(h_n=PAPER.h_n * 1e-12)))
+    assert found.status.tolist() == [Status.NOT_SETTLED]
+    assert "not settled within 120000 periods" in found.message[0]
+    assert time.perf_counter() - start < 30
+
+
+def test_forces_beyond_the_weight_end_in_bounded_time_with_a_status():
+    # P_a = 2Q and 5Q throw the slider off the slideway every period (long free flights,
+    # hard impacts): every lane ends, settled with a finite App or with a message.
+    import time
+
+    from numerics import steady_states
+    from perturb import PAPER
+
+    start = time.perf_counter()
+    for frac in (2.0, 5.0):
+        found = steady_states([300.0, 700.0, 1400.0], frac * PAPER.Q_n)
+        assert np.all(np.isfinite(found.app_m[found.settled]))
+        assert all(m for s, m in zip(found.status, found.message) if s != Status.SUCCESS)
+    assert time.perf_counter() - start < 30

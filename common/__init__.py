@@ -22,7 +22,14 @@ from ._checks import (
     lane_array,
     lookup,
 )
-from ._cli import int_at_least, nonnegative_float, output_dir, output_file, positive_float
+from ._cli import (
+    int_at_least,
+    nonnegative_float,
+    output_dir,
+    output_file,
+    positive_float,
+    run_command,
+)
 from ._glossary import GLOSSARY, glossary_table
 from ._json import dumps, jsonable, write_json
 from ._progress import note, progress
@@ -56,5 +63,6 @@ __all__ = [
     "positive_float",
     "progress",
     "result",
+    "run_command",
     "write_json",
 ]

@@ -102,6 +102,8 @@ def check_keys(name: str, value, required: Iterable[str]) -> Mapping:
 
 def lane_array(name: str, value, lanes: int | None = None, *, positive: bool = False):
     """A float64 array over lanes; finite, >= 0 (or > 0 with ``positive``)."""
+    if _not_numbers(value):
+        raise ValueError(f"`{name}` must be real numbers, got {value!r}.")
     try:
         array = np.atleast_1d(np.asarray(value, dtype=float))
     except (TypeError, ValueError):
@@ -119,14 +121,26 @@ def lane_array(name: str, value, lanes: int | None = None, *, positive: bool = F
     return array
 
 
+def _not_numbers(value) -> bool:
+    """Text or booleans, which numpy would turn into numbers without a word."""
+    kind = np.asarray(value).dtype.kind
+    if kind in "fiuc":
+        return False
+    if kind != "O":
+        return True  # str, bytes, bool
+    return any(isinstance(item, (str, bytes, bool, np.bool_))
+               for item in np.ravel(np.asarray(value, dtype=object)))
+
+
 def finite_array(name: str, value):
     """A finite float64 array of at most one dimension."""
     try:
         array = np.atleast_1d(np.asarray(value, dtype=float))
     except (TypeError, ValueError):
         raise ValueError(f"`{name}` must be real numbers, got {value!r}.") from None
-    if array.ndim != 1 or not np.isfinite(array).all():
-        raise ValueError(f"`{name}` must be finite and at most 1-dimensional, got {value!r}.")
+    if array.ndim != 1 or array.size == 0 or not np.isfinite(array).all():
+        raise ValueError(f"`{name}` must be finite, non-empty and at most 1-dimensional, got "
+                         f"{value!r}.")
     return array
 
 

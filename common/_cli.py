@@ -10,10 +10,12 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import sys
 import tempfile
 from pathlib import Path
 
-__all__ = ["positive_float", "nonnegative_float", "int_at_least", "output_file", "output_dir"]
+__all__ = ["positive_float", "nonnegative_float", "int_at_least", "output_file", "output_dir",
+           "run_command"]
 
 
 def _finite(text: str) -> float:
@@ -93,3 +95,13 @@ def output_dir(text: str) -> str:
     if not _writable_folder(path):
         raise argparse.ArgumentTypeError(f"cannot write into {text!r}")
     return text
+
+
+def run_command(args: argparse.Namespace) -> int:
+    """Run a parsed command; a reader of stdout that goes away (``| head``) is no error."""
+    try:
+        return args.run(args) or 0
+    except BrokenPipeError:
+        # Python's advice: point stdout at devnull so that the exit flush cannot fail too.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0

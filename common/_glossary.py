@@ -73,8 +73,8 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "tol": ("relative tolerance of the settling test", "1", ""),
     "max_periods": ("cap of time marching per lane, in periods (None: 30 decay times 1/c)",
                     "1", ""),
-    "refinements": ("how many times an unsettled, failed or p > 1 lane is solved again with "
-                    "twice the steps", "1", ""),
+    "refinements": ("how many times a lane that failed, did not settle, settled with p > 1 "
+                    "or under-resolved is solved again with twice the steps", "1", ""),
     "tolerance": ("a relative error bound (validity of a series, parting of two models)", "1",
                   ""),
     "elapsed_s": ("wall time of the computation", "s", ""),
@@ -172,6 +172,44 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
               "Eq. 3.1"),
     "k": ("the resonance f_e ~ f_n0 / k (1: primary, k > 1: superharmonic)", "1", "Eq. 3.1"),
     "rk4_hz": ("place of a peak in the RK4 steady states", "Hz", "Fig. 2"),
+    # -- the parameters and effects inside `model`
+    "S": ("nominal (apparent) contact area", "m^2", "Eq. 2.1"),
+    "c_n": ("contact stiffness coefficient", "N/m^(m2+2)", "Eq. 2.1"),
+    "m2": ("exponent of the spring law F_s = -S c_n y^m2", "1", "Eq. 2.1"),
+    "h_n": ("contact damping coefficient", "N s/m^(l+3)", "Eq. 2.1"),
+    "l": ("exponent of the damping law F_d = -S h_n y^l dy/dt", "1", "Eq. 2.1"),
+    "M": ("mass of the slider", "kg", "Eq. 2.2"),
+    "g": ("acceleration of gravity", "m/s^2", "Eq. 2.2"),
+    "contact_loss": ("(in effects) the contact force vanishes for y <= 0; (in results) "
+                     "ymin < 0", "", "Eq. 2.1"),
+    "spring": ("spring law: power, taylor (degree taylor_degree about y0) or linear", "",
+               "Eq. 2.1, 2.5"),
+    "taylor_degree": ("degree of the Taylor spring about y0", "1", "Eq. 2.5"),
+    "damping": ("damping law: power, or linear (linearised at y0)", "", "Eq. 2.1, 2.5"),
+    "gravity": ("whether the weight Q presses the slider on the slideway", "", "Eq. 2.3"),
+    # -- settings
+    "record": ("the observables a simulation records: final, minmax, extrema, history", "",
+               ""),
+    "max_extrema": ("room for local extrema per lane of a simulation", "1", ""),
+    "grid": ("the census's initial states, in units of y0 and omega0 y0", "", ""),
+    "y_over_y0": ("initial displacements of the census, over y0", "1", ""),
+    "v_over_omega0_y0": ("initial velocities of the census, over omega0 y0", "1", ""),
+    "initial_states": ("how many initial states the census starts from", "1", ""),
+    "cluster_tol": ("states closer than this fraction of App are one attractor", "1", ""),
+    "cluster_floor_y0": ("... of App, but never of less than this fraction of y0", "1", ""),
+    "rest_fraction_y0": ("an orbit with App below this fraction of y0 is rest", "1", ""),
+    "models": ("the effects of each RK4 model of the comparison, by model_name", "", ""),
+    # -- derived values in the JSON
+    "height_ratio": ("series_app_m / rk4_app_m of a peak", "1", ""),
+    "unmatched_hz": ("frequencies of the unmatched states", "Hz", ""),
+    "parting": ("per pa_frac, where the full model's App parts from Eq. 2.6's", "", ""),
+    "states": ("states where both models settled", "1", ""),
+    "differ": ("states where App differs by more than tolerance", "1", ""),
+    "differ_with_contact_loss": ("... of them with contact lost", "1", ""),
+    "differ_in_contact": ("... of them in contact (the damping law)", "1", ""),
+    "in_contact_hz": ("frequencies where the models differ in contact", "Hz", ""),
+    "real": ("JSON of a complex array: its real part", "", ""),
+    "imag": ("JSON of a complex array: its imaginary part", "", ""),
 }
 
 

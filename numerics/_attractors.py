@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from common import Result, check_keys, check_positive, result
+from common import Result, check_keys, check_positive, finite_array, result
 from perturb import ContactModel, eq26_numbers
 
 from ._orbits import Orbits
@@ -110,10 +110,10 @@ class Census(Result):
 def initial_grid(model: ContactModel, grid: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The census's initial states [m, m/s] from a grid in units of y0 and omega0 y0."""
     grid = DEFAULT_GRID if grid is None else check_keys("grid", grid, tuple(DEFAULT_GRID))
+    axes = {key: finite_array(f"grid[{key!r}]", grid[key]) for key in DEFAULT_GRID}
     numbers = eq26_numbers(model.parameters)
     y0, omega0 = numbers.y0_m, numbers.omega0_rad_s
-    y, v = np.meshgrid(y0 * np.asarray(grid["y_over_y0"], float),
-                       omega0 * y0 * np.asarray(grid["v_over_omega0_y0"], float))
+    y, v = np.meshgrid(y0 * axes["y_over_y0"], omega0 * y0 * axes["v_over_omega0_y0"])
     return y.ravel(), v.ravel()
 
 

@@ -100,10 +100,12 @@ def _shoelace(x: np.ndarray, y: np.ndarray) -> float:
 
 
 def _closure(y: np.ndarray, v: np.ndarray, steps: int) -> float:
-    """Largest relative change of the state over the last period."""
-    dy = abs(y[-1] - y[steps - 1]) / np.ptp(y[steps:])
-    dv = abs(v[-1] - v[steps - 1]) / np.ptp(v[steps:])
-    return float(max(dy, dv))
+    """Largest relative change of the state over the last period (0 with no motion)."""
+    def change(x):
+        step, span = abs(x[-1] - x[steps - 1]), np.ptp(x[steps:])
+        return 0.0 if step == 0 else step / span
+
+    return float(max(change(y), change(v)))
 
 
 def hysteresis_loop(

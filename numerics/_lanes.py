@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from common import check_int
 from perturb import ContactModel, eq26_numbers
 
 from ._codegen import compiled_kernels
@@ -28,6 +29,7 @@ DIVERGENCE_FACTOR = 1e3
 
 def drive_table(steps_per_period: int) -> np.ndarray:
     """cos(2 pi j / 2N) for j = 0..2N: the drive at every RK4 stage of a period."""
+    steps_per_period = check_int("steps_per_period", steps_per_period, minimum=1)
     return np.cos(np.pi * np.arange(2 * steps_per_period + 1) / steps_per_period)
 
 

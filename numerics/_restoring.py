@@ -65,7 +65,7 @@ def _check_effects(model: ContactModel) -> None:
     if effects.spring != "power" or not effects.gravity or not effects.contact_loss:
         raise ValueError(
             "the exact backbone needs the power-law spring with gravity and contact "
-            f"loss (damping is dropped); got `model` with effects {effects.label()!r}."
+            f"loss (damping is dropped); got `model` with effects {effects.describe()!r}."
         )
 
 

@@ -69,6 +69,17 @@ class Simulation(Result):
     def lanes(self) -> int:
         return self.frequency_hz.shape[0]
 
+    def table(self, rows: int = 20) -> str:
+        """One row per lane (the first ``rows``): f_e, P_a, status, App if recorded."""
+        app = self.app_m if self.ymin_m is not None else np.full(self.lanes, np.nan)
+        lines = [f"  {'f_e [Hz]':>10} {'P_a [N]':>10} {'status':<8} {'App [nm]':>11}  message"]
+        lines += [f"  {self.frequency_hz[i]:>10.6g} {self.p_a_n[i]:>10.4g} "
+                  f"{Status(self.status[i]).name:<8} {app[i] * 1e9:>11.4g}  {self.message[i]}"
+                  for i in range(min(self.lanes, rows))]
+        if self.lanes > rows:
+            lines.append(f"  ... {self.lanes - rows} more lanes")
+        return "\n".join(lines)
+
     def summary(self) -> str:
         s = self.settings
         return (

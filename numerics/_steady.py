@@ -68,7 +68,7 @@ class SteadyStates(Orbits):
     model : dict
         The model that made them (``ContactModel.as_dict()``).
     settings : dict
-        steps_per_period, tol, max_periods, method, refinements.
+        steps_per_period, tol, app_rtol, max_periods, method, refinements.
     elapsed_s : float
     """
 
@@ -78,6 +78,23 @@ class SteadyStates(Orbits):
 
     def summary(self) -> str:
         return f"{super().summary()}, {self.elapsed_s:.3g} s"
+
+    def table(self) -> str:
+        return _lane_table(self)
+
+
+def _lane_table(points: Orbits, rows: int = 20) -> str:
+    """One row per lane (the first ``rows``): f_e, status, period, App, ymin, steps."""
+    lines = [f"  {'f_e [Hz]':>10} {'status':<14} {'p':>2} {'App [nm]':>11} {'ymin [nm]':>11} "
+             f"{'steps':>6}  message"]
+    for i in range(min(points.status.size, rows)):
+        lines.append(f"  {points.frequency_hz[i]:>10.6g} {Status(points.status[i]).name:<14} "
+                     f"{points.period[i]:>2} {points.app_m[i] * 1e9:>11.4g} "
+                     f"{points.ymin_m[i] * 1e9:>11.4g} {points.steps_used[i]:>6}  "
+                     f"{points.message[i]}")
+    if points.status.size > rows:
+        lines.append(f"  ... {points.status.size - rows} more lanes")
+    return "\n".join(lines)
 
 
 class _Batch(Lanes):
@@ -459,9 +476,18 @@ def _fate(state: Orbits, batch: _Batch, failed_period, cap: np.ndarray,
                                "chaotic, or a slow transient)")
 
 
+#: How good each status is (0 best), indexed by status + 1: a finer pass replaces a
+#: result only if it is at least as good (an under-resolved orbit beats no orbit).
+_RANK = np.array([3, 0, 2, 1])  # failed, success, not settled, under-resolved
+
+
+def _rank(status: np.ndarray) -> np.ndarray:
+    return _RANK[status - int(Status.FAILED)]
+
+
 def _merge(state: Orbits, lanes: np.ndarray, finer: Orbits) -> None:
-    """Take the finer pass's result for ``lanes``, unless it settled no better."""
-    take = finer.settled | ~state.settled[lanes]
+    """Take the finer pass's result for ``lanes`` where it is at least as good."""
+    take = _rank(finer.status) <= _rank(state.status[lanes])
     cost = state.periods_run[lanes] + finer.periods_run
     state.put(lanes[take], finer.take(np.flatnonzero(take)))
     state.periods_run[lanes] = cost

@@ -70,8 +70,9 @@ class Sweep(Result):
         lines = []
         for run in self.runs:
             jumps = [run.frequency_hz[i] for i in run.jumps()]
+            settled = np.where(run.settled, run.app_m, np.nan)
             lines.append(f"  P_a = {run.pa_frac:.2f} Q {run.direction:>4}: max App "
-                         f"{np.nanmax(run.app_m, initial=0) * 1e9:9.1f} nm, jumps at "
+                         f"{np.nanmax(settled, initial=0) * 1e9:9.1f} nm, jumps at "
                          f"{[float(f) for f in jumps]} Hz, contact lost at "
                          f"{int(run.contact_lost.sum())} points")
         return "\n".join(lines)
@@ -118,6 +119,8 @@ def sweep(
     if grid.size > 1 and np.any(np.diff(grid) <= 0):
         raise ValueError("`frequency_hz` must be strictly increasing.")
     fracs = lane_array("pa_frac", pa_frac)
+    if np.unique(fracs).size != fracs.size:
+        raise ValueError(f"`pa_frac` must not repeat an amplitude, got {fracs.tolist()}.")
     check_steps(steps_per_period)
     directions = ("up", "down") if direction == "both" else (direction,)
     states = grid.size * fracs.size * len(directions)
@@ -140,8 +143,7 @@ def sweep(
                  **points.take(np.arange(i, points.status.size, len(lanes))).columns())
         for i, (frac, d) in enumerate(lanes)
     ]
-    settings = {"frequency_hz": [float(grid[0]), float(grid[-1]), int(grid.size)],
-                "pa_frac": fracs.tolist(), "direction": direction,
+    settings = {"frequency_hz": grid.tolist(), "pa_frac": fracs.tolist(), "direction": direction,
                 "steps_per_period": steps_per_period, "tol": tol, "app_rtol": app_rtol,
                 "max_periods": max_periods,
                 "method": method, "refinements": refinements}

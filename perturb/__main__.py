@@ -31,6 +31,7 @@ from common import (
     output_file,
     positive_float,
     progress,
+    run_command,
     write_json,
 )
 
@@ -64,22 +65,22 @@ def _derive(args: argparse.Namespace) -> None:
     text = timed("closed forms and text",
                  lambda: text_report(series, pretty=args.pretty, each_order=bar.update))
     bar.close()
-    print(text, end="")
-    if args.latex:
+    if args.latex:  # the files first: a reader of stdout that goes away loses nothing
         latex = timed("LaTeX", lambda: latex_report(series))
         Path(args.latex).write_text(latex, encoding="utf-8")
     if args.json:
         timed("JSON", lambda: write_json(args.json, series_json(series)))
+    print(text, end="")
     note("; ".join(f"{stage} {seconds:.2f} s" for stage, seconds in stages), quiet=args.quiet)
 
 
 def _backbone(args: argparse.Namespace) -> None:
     series = backbone_series(args.order)
     note(f"backbone series to order {args.order} in {series.elapsed_s:.3f} s", quiet=args.quiet)
-    print(series)
     if args.json:
         write_json(args.json, series)
         note(f"wrote {args.json}", quiet=args.quiet)
+    print(series)
 
 
 def _response(args: argparse.Namespace) -> None:
@@ -87,10 +88,10 @@ def _response(args: argparse.Namespace) -> None:
     note(f"response of order {args.order} at {args.points} frequencies ...", quiet=args.quiet)
     response = frequency_response(frequency_hz, args.pa_frac, args.order)
     note(f"done in {response.elapsed_s:.2f} s", quiet=args.quiet)
-    print(response)
     if args.json:
         write_json(args.json, response)
         note(f"wrote {args.json}", quiet=args.quiet)
+    print(response)
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -137,8 +138,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "response" and not args.fmax > args.fmin:
         # Relates two options, so it cannot be a type: checked before any work.
         parser.error(f"argument --fmax: must be above --fmin ({args.fmin!r}), got {args.fmax!r}")
-    args.run(args)
-    return 0
+    return run_command(args)
 
 
 if __name__ == "__main__":

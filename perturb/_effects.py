@@ -39,7 +39,7 @@ class Effects:
 
     Examples
     --------
-    >>> Effects(spring="taylor", taylor_degree=2).label()
+    >>> Effects(spring="taylor", taylor_degree=2).describe()
     'contact loss, taylor-2 spring, power damping, gravity'
     >>> Effects(spring="cubic")
     Traceback (most recent call last):
@@ -65,7 +65,7 @@ class Effects:
     def names(cls) -> tuple[str, ...]:
         return tuple(f.name for f in fields(cls))
 
-    def label(self) -> str:
+    def describe(self) -> str:
         spring = f"taylor-{self.taylor_degree}" if self.spring == "taylor" else self.spring
         parts = [
             "contact loss" if self.contact_loss else "no contact loss",

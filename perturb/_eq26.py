@@ -104,7 +104,7 @@ def eq26_numbers(parameters: ContactParameters = PAPER) -> Eq26Numbers:
 @lru_cache(maxsize=128)
 def _numbers(parameters: ContactParameters) -> Eq26Numbers:
     eq = Eq26(ContactModel(parameters))
-    value = eq.model.numeric
+    value = eq.model.evaluate
     omega0 = math.sqrt(value(eq.omega0_squared))
     c = value(eq.c)
     return Eq26Numbers(

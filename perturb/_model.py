@@ -49,7 +49,7 @@ class ContactModel:
     >>> model = ContactModel()
     >>> model.static_deflection
     (M*g/(S*c_n))**(1/m2)
-    >>> round(model.numeric(model.static_deflection) * 1e9, 1)  # nm
+    >>> round(model.evaluate(model.static_deflection) * 1e9, 1)  # nm
     225.2
 
     As data (how a result carries the model that made it), and back:
@@ -94,7 +94,7 @@ class ContactModel:
             for name, value in self.parameters.as_dict().items()
         }
 
-    def numeric(self, expr: sp.Expr) -> float:
+    def evaluate(self, expr: sp.Expr) -> float:
         """Evaluate an expression of the parameter symbols at the parameter values."""
         return float(sp.N(sp.sympify(expr).subs(self.values), 17))
 
@@ -167,15 +167,25 @@ class ContactModel:
 
     # -- as data ------------------------------------------------------------
     def as_dict(self) -> dict:
-        """``{"parameters": {...}, "effects": {...}}``: plain JSON-ready values."""
+        """``{"parameters": {...}, "effects": {...}, "y0_m": ..., "f_n0_hz": ..., ...}``:
+        the model as plain JSON-ready values, with the numbers of Eq. 2.6 it implies
+        (``Eq26Numbers``: derived, for a reader of the file; ``from_dict`` ignores them)."""
+        from ._eq26 import eq26_numbers
+
         return {
             "parameters": self.parameters.as_dict(),
             "effects": dataclasses.asdict(self.effects),
+            **eq26_numbers(self.parameters).as_dict(),
         }
 
     @classmethod
     def from_dict(cls, data: Mapping) -> ContactModel:
         """The model that ``as_dict`` described; a ValueError names a missing or unknown key."""
+        from ._eq26 import Eq26Numbers
+
+        if isinstance(data, Mapping):  # the numbers of Eq. 2.6 are derived: not read back
+            derived = {f.name for f in dataclasses.fields(Eq26Numbers)}
+            data = {key: value for key, value in data.items() if key not in derived}
         data = check_keys("model", data, ("parameters", "effects"))
         parameters = ContactParameters.from_dict(data["parameters"])
         effects = Effects(**check_keys("effects", data["effects"], Effects.names()))
@@ -191,4 +201,4 @@ class ContactModel:
 
     def __repr__(self) -> str:
         values = "paper values" if self.parameters == PAPER else repr(self.parameters)
-        return f"ContactModel({values}; {self.effects.label()})"
+        return f"ContactModel({values}; {self.effects.describe()})"

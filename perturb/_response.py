@@ -152,6 +152,12 @@ class Response(Result):
     settings: dict
     elapsed_s: float
 
+    def branch(self, j: int) -> Branch:
+        """Branch ``j`` (the root with the (j+1)-th largest omega); a KeyError lists them."""
+        if isinstance(j, (int, np.integer)) and 0 <= j < len(self.branches):
+            return self.branches[j]
+        raise KeyError(f"no branch {j!r}; available: {list(range(len(self.branches)))}")
+
     def roots_per_frequency(self) -> np.ndarray:
         """How many roots (responses) each frequency of ``frequency_hz`` has."""
         counts = np.zeros(self.frequency_hz.shape, dtype=int)

@@ -32,6 +32,8 @@ def test_attractors_json_has_the_documented_keys(tmp_path):
                     "--fe", "740", "--json", str(target), "--quiet"], check=True,
                    capture_output=True)
     data = json.loads(target.read_text())
-    assert {"attractors", "settings", "elapsed_s"} <= set(data)
-    keys = {"period", "app_m", "ymin_m", "ymax_m", "basin_fraction", "contact_lost"}
+    assert {"attractors", "settings", "elapsed_s", "not_settled_fraction", "lanes"} <= set(data)
+    keys = {"period", "app_m", "ymin_m", "ymax_m", "basin_fraction", "contact_lost",
+            "dominant_harmonic", "label", "multipliers"}
     assert all(keys <= set(a) for a in data["attractors"])
+    assert [a["label"] for a in data["attractors"]] == ["1/2 superharmonic", "primary"]

@@ -24,7 +24,7 @@ def model_with(m2: float, **changes) -> ContactModel:
 
 
 def y0_of(model: ContactModel) -> float:
-    return model.numeric(model.static_deflection)
+    return model.evaluate(model.static_deflection)
 
 
 # -- the linear limit -------------------------------------------------------------------
@@ -97,7 +97,7 @@ def conservative_rhs(model: ContactModel):
 def free_oscillation(model: ContactModel, u_max: float, periods: int = 3) -> dict:
     """Period, turning points and fundamental amplitude of a free run from rest at y0 + u."""
     y0 = y0_of(model)
-    omega0 = np.sqrt(model.numeric(sym.g * sym.m2 / model.static_deflection))
+    omega0 = np.sqrt(model.evaluate(sym.g * sym.m2 / model.static_deflection))
     top, bottom = (lambda t, s: s[1]), (lambda t, s: s[1])
     top.direction, bottom.direction = -1, 1
     run = solve_ivp(
@@ -139,7 +139,7 @@ def rk4_frequency_error(level: float, steps: tuple[int, ...], periods: int = 4) 
     y0 = y0_of(model)
     backbone = exact_backbone([level * y0], model=model)
     r = restoring_force(model)
-    acceleration_at_top = -r(np.array([level])) * model.numeric(sym.g)
+    acceleration_at_top = -r(np.array([level])) * model.evaluate(sym.g)
     errors = []
     for n in steps:
         run = simulate(backbone.frequency_hz, 0.0, periods=periods, steps_per_period=n,

@@ -52,7 +52,7 @@ def test_quadratic_spring_taylor_series_ends_at_the_quadratic_term():
 
 def test_cubic_taylor_term_exists_for_a_fractional_exponent():
     eq = Eq26(ContactModel(ContactParameters(m2=1.5)))
-    assert eq.model.numeric(eq.stiffness_coefficients(3)[3]) != 0
+    assert eq.model.evaluate(eq.stiffness_coefficients(3)[3]) != 0
 
 
 def test_eq26_model_is_the_taylor_polynomial_without_contact_loss():

@@ -107,6 +107,29 @@ def test_every_field_of_every_result_is_in_the_glossary():
     assert names <= set(GLOSSARY), sorted(names - set(GLOSSARY))
 
 
+#: Mappings whose keys are values, not names: amplitudes and model names.
+KEYED_BY_VALUE = {"parting", "models"}
+
+
+def _json_keys(data, found: set) -> set:
+    if isinstance(data, dict):
+        for key, value in data.items():
+            found.add(key)
+            if key not in KEYED_BY_VALUE:
+                _json_keys(value, found)
+    elif isinstance(data, list):
+        for item in data:
+            _json_keys(item, found)
+    return found
+
+
+@pytest.mark.parametrize("name", sorted(FACTORIES))
+def test_every_json_key_is_in_the_glossary(name, instances):
+    # Settings and the model included: one name per quantity, in the files too.
+    keys = _json_keys(instances[name].as_dict(), set())
+    assert keys <= set(GLOSSARY), sorted(keys - set(GLOSSARY))
+
+
 def test_the_readme_shows_the_glossary():
     from pathlib import Path
 

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import argparse
 
+from common import run_command
+
 from ._backbone import add_backbone_parser
 from ._compare import add_compare_parser
 from ._info import add_info_parser
@@ -27,5 +29,4 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
-    return args.run(args)
+    return run_command(build_parser().parse_args(argv))

@@ -49,6 +49,6 @@ def _backbone(args: argparse.Namespace) -> int:
     span = "" if app_range is None else f", A_pp {app_range[0]:g}..{app_range[1]:g} m"
     note(f"backbone: {args.points} energy levels{span} ...", quiet=args.quiet)
     backbone = exact_backbone(app_range_m=app_range, points=args.points)
+    write_json(args.json, backbone.as_dict())  # before printing: a closed pipe loses nothing
     print(backbone)
-    write_json(args.json, backbone.as_dict())
     return 0

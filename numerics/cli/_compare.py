@@ -32,9 +32,9 @@ def _compare(args: argparse.Namespace) -> int:
     # --orders and --pa-frac are checked by their argparse types (exit 2, naming
     # the option); compare() checks them again for callers from Python.
     result = compare(sorted(set(args.orders)), sorted(set(args.pa_frac)), quiet=args.quiet)
-    print(result)
     if args.json:
         result.to_json(args.json)
+    print(result)
     if args.plot:
         from ..plots import plot_comparison  # matplotlib only when a plot is asked for
 

@@ -4,26 +4,15 @@ from __future__ import annotations
 
 import argparse
 
-from common import output_file, write_json
+from common import GLOSSARY, output_file, write_json
 
 __all__ = ["add_info_parser", "format_info"]
 
-_DESCRIPTIONS = {
-    "y0_m": "static contact deflection y0",
-    "f_n0_hz": "natural frequency f_n0 of the linearised system",
-    "omega0_rad_s": "omega0 = 2 pi f_n0",
-    "Q_n": "weight of the slider Q = M g",
-    "c_per_s": "c of Eq. 2.6 (2c = S h_n y0^l / M)",
-    "h_per_m_s2": "eps*h of Eq. 2.6 (quadratic stiffness over M)",
-    "damping_ratio": "c / omega0",
-    "G_per_P_a": "G / P_a of Eq. 2.6 (1 / M)",
-}
-
 
 def format_info(info: dict[str, float]) -> str:
-    """One aligned line per number, with what it means."""
+    """One aligned line per number, with what it means (from the glossary)."""
     return "\n".join(
-        f"{key:<14} {value:>14.7g}   {_DESCRIPTIONS.get(key, '')}" for key, value in info.items()
+        f"{key:<14} {value:>14.7g}   {GLOSSARY[key][0]}" for key, value in info.items()
     )
 
 

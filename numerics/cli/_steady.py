@@ -48,7 +48,14 @@ def add_sweep_parser(sub) -> None:
 
 def _sweep(args: argparse.Namespace) -> int:
     if not args.fmin < args.fmax:
-        args.parser.error(f"--fmin must be below --fmax, got {args.fmin} and {args.fmax}")
+        args.parser.error(f"argument --fmax: must be above --fmin, got {args.fmin} and "
+                          f"{args.fmax}")
+    if args.plot:  # Fig. 3 goes beside Fig. 2: that file must be writable too
+        try:
+            output_file(_extrema_path(args.plot))
+        except argparse.ArgumentTypeError as error:
+            args.parser.error(f"argument --plot: Fig. 3 goes to {_extrema_path(args.plot)!r}: "
+                              f"{error}")
     states = args.points * len(args.pa_frac) * (2 if args.direction == "both" else 1)
     if states > MAX_STATES:
         args.parser.error(f"--points x --pa-frac x directions asks for {states} steady states, "
@@ -56,16 +63,21 @@ def _sweep(args: argparse.Namespace) -> int:
     result = sweep(np.linspace(args.fmin, args.fmax, args.points), args.pa_frac,
                    direction=args.direction, steps_per_period=args.steps, tol=args.tol,
                    quiet=args.quiet)
-    print(result)
     if args.json:
         result.to_json(args.json)
+    print(result)
     if args.plot:
         from ..plots import plot_app, plot_extrema
 
         plot_app(result, args.plot)
-        stem = args.plot[:-4] if args.plot.endswith(".png") else args.plot
-        plot_extrema(result, f"{stem}-extrema.png")
+        plot_extrema(result, _extrema_path(args.plot))
     return 0
+
+
+def _extrema_path(plot: str) -> str:
+    """Where Fig. 3 goes: beside Fig. 2, FILE-extrema.png."""
+    stem = plot[:-4] if plot.endswith(".png") else plot
+    return f"{stem}-extrema.png"
 
 
 def add_attractors_parser(sub) -> None:
@@ -79,7 +91,7 @@ def add_attractors_parser(sub) -> None:
 def _attractors(args: argparse.Namespace) -> int:
     note(f"attractors at {args.fe} Hz, {args.pa_frac} Q ...", quiet=args.quiet)
     census = attractors(args.fe, args.pa_frac, steps_per_period=args.steps, tol=args.tol)
-    print(census)
     if args.json:
         census.to_json(args.json)
+    print(census)
     return 0

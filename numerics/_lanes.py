@@ -10,6 +10,7 @@ buffers of ``record_periods`` are written once.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -29,8 +30,14 @@ DIVERGENCE_FACTOR = 1e3
 
 def drive_table(steps_per_period: int) -> np.ndarray:
     """cos(2 pi j / 2N) for j = 0..2N: the drive at every RK4 stage of a period."""
-    steps_per_period = check_int("steps_per_period", steps_per_period, minimum=1)
-    return np.cos(np.pi * np.arange(2 * steps_per_period + 1) / steps_per_period)
+    return _drive_table(check_int("steps_per_period", steps_per_period, minimum=1))
+
+
+@lru_cache(maxsize=32)
+def _drive_table(steps: int) -> np.ndarray:
+    table = np.cos(np.pi * np.arange(2 * steps + 1) / steps)
+    table.flags.writeable = False  # shared by every batch with this step
+    return table
 
 
 def divergence_limit(model: ContactModel, frequency_hz: np.ndarray) -> np.ndarray:

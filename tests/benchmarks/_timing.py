@@ -6,7 +6,7 @@ import statistics
 import time
 from collections.abc import Callable
 
-__all__ = ["median_time", "row", "header"]
+__all__ = ["median_time", "interleaved_medians", "row", "header"]
 
 
 def median_time(function: Callable[[], object], repeats: int = 5) -> float:
@@ -17,6 +17,19 @@ def median_time(function: Callable[[], object], repeats: int = 5) -> float:
         function()
         times.append(time.perf_counter() - start)
     return statistics.median(times)
+
+
+def interleaved_medians(first: Callable[[], object], second: Callable[[], object],
+                        repeats: int = 7) -> tuple[float, float]:
+    """Median wall times of two functions run in turn, so that a drift in the machine's
+    load falls on both alike (an A/B pair on a shared machine)."""
+    times: tuple[list[float], list[float]] = ([], [])
+    for _ in range(repeats):
+        for function, spent in zip((first, second), times):
+            start = time.perf_counter()
+            function()
+            spent.append(time.perf_counter() - start)
+    return statistics.median(times[0]), statistics.median(times[1])
 
 
 def header(title: str) -> None:

@@ -22,7 +22,7 @@ from numerics import sweep
 from perturb import PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, eq26_numbers
 
 from ._textbook import PARAMETERS, brute_force_sweep, dop853_point
-from ._timing import header, median_time, row
+from ._timing import header, interleaved_medians, row
 
 GRID = np.linspace(*PAPER_BAND_HZ, 311)
 BRUTE = {"steps": 400, "periods": 150}
@@ -75,8 +75,7 @@ def main() -> None:
     job = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS)  # noqa: E731
     unchecked = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS, app_rtol=None)  # noqa: E731
     result = job()
-    warm = median_time(job, repeats=5)
-    warm_unchecked = median_time(unchecked, repeats=5)
+    warm, warm_unchecked = interleaved_medians(job, unchecked, repeats=7)
     cold = cold_start()
     brute, brute_gap = brute_force(result)
     scipy_s = dop853(result)

@@ -56,7 +56,7 @@ _EXTREMA_PER_PERIOD = 64  # room for local extrema per period of the response
 #: period, against 2048 steps): above 0.75 the estimate passed states whose App was wrong
 #: by more than the tolerance (at 1.0: 1.1 %); 0.5 keeps a margin of 1.5 below that.
 _RESOLVED_OMEGA_DT = 0.5
-_ROUNDOFF = 1e-12  # of y0: App changes below this are round-off (about 1e4 ulp of y0)
+_ROUNDOFF = 1e-14  # of y0: App changes below this are round-off (about 100 ulp of y0)
 
 
 @result

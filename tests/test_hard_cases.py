@@ -301,3 +301,25 @@ def test_the_same_input_gives_the_same_json(tmp_path):
         return json.dumps(data)
 
     assert run("a.json") == run("b.json")
+
+
+def test_lanes_that_never_settle_leave_the_census_right():
+    # At P_a = Q, 700 Hz, some initial states never settle within the cap (irregular,
+    # or a very slow transient: telling chaos apart needs a Lyapunov exponent, which is
+    # issue 13's). They are reported, not counted; the attractors found beside them are
+    # real: stable, and a long run from each stays on it.
+    from numerics import simulate
+
+    census = attractors(700.0, 1.0)
+    assert census.lanes.fates() and len(census.attractors) >= 2
+    total = sum(a.basin_fraction for a in census.attractors) + census.not_settled_fraction
+    assert abs(total - 1) < 1e-12
+    for attractor in census.attractors:
+        assert np.all(np.abs(attractor.multipliers) < 1)
+        lane = int(np.flatnonzero(np.isclose(census.lanes.app_m, attractor.app_m))[0])
+        run = simulate(700.0, census.lanes.p_a_n[lane], periods=64 * attractor.period,
+                       record_periods=attractor.period, model=None,
+                       steps_per_period=int(census.lanes.steps_used[lane]),
+                       y_init_m=census.lanes.y_start_m[lane],
+                       v_init_m_s=census.lanes.v_start_m_s[lane])
+        assert abs(run.app_m[0] / attractor.app_m - 1) < 1e-4

@@ -57,13 +57,16 @@ def check_positive(name: str, value, *, allow_zero: bool = False) -> float:
     return number
 
 
-def check_int(name: str, value, minimum: int = 1, maximum: int | None = None) -> int:
-    """An integer in [minimum, maximum] (a float with an integer value is accepted)."""
+def check_int(name: str, value, minimum: int = 1, maximum: int | None = None,
+              why: str = "") -> int:
+    """An integer in [minimum, maximum] (a float with an integer value is accepted);
+    ``why`` says in the error why the maximum is there."""
     ok = isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
     if not ok or not math.isfinite(value) or int(value) != value or value < minimum:
         raise ValueError(f"`{name}` must be an integer >= {minimum}, got {value!r}.")
     if maximum is not None and value > maximum:
-        raise ValueError(f"`{name}` must be an integer <= {maximum}, got {value!r}.")
+        reason = f": {why}" if why else ""
+        raise ValueError(f"`{name}` must be an integer <= {maximum}, got {value!r}{reason}.")
     return int(value)
 
 

@@ -33,6 +33,8 @@ CLUSTER_TOL = 1e-3  # relative to the orbit's App: states closer than this are o
 #: round-off of about tol x 1e-3 y0, so at rest or at tiny forces the orbits reached
 #: from different states differ by far less than a picometre; they are one state.
 CLUSTER_FLOOR = 1e-2
+#: The most initial states of one census (its clustering compares them pairwise).
+MAX_INITIAL_STATES = 10_000
 #: An orbit whose App is below this fraction of y0 is rest: its harmonics are
 #: round-off, and no resonance can be read from them.
 REST_FRACTION = 1e-9
@@ -113,6 +115,10 @@ def initial_grid(model: ContactModel, grid: dict | None = None) -> tuple[np.ndar
     axes = {key: finite_array(f"grid[{key!r}]", grid[key]) for key in DEFAULT_GRID}
     numbers = eq26_numbers(model.parameters)
     y0, omega0 = numbers.y0_m, numbers.omega0_rad_s
+    states = axes["y_over_y0"].size * axes["v_over_omega0_y0"].size
+    if states > MAX_INITIAL_STATES:
+        raise ValueError(f"`grid` has {states} initial states, more than the limit of "
+                         f"{MAX_INITIAL_STATES}: the census clusters its states pairwise.")
     y, v = np.meshgrid(y0 * axes["y_over_y0"], omega0 * y0 * axes["v_over_omega0_y0"])
     return y.ravel(), v.ravel()
 

@@ -39,7 +39,10 @@ from perturb import ContactModel
 from . import _chebyshev as cheb
 from ._restoring import Restoring, restoring_force
 
-__all__ = ["Backbone", "exact_backbone", "contact_loss_compression"]
+__all__ = ["Backbone", "exact_backbone", "contact_loss_compression", "MAX_POINTS"]
+
+#: The most energy levels of one backbone (each holds its quadrature nodes in memory).
+MAX_POINTS = 1_000_000
 
 # Gauss-Legendre rule on [0, 1] for the means of r over segments.
 _GAUSS_T, _GAUSS_W = np.polynomial.legendre.leggauss(16)
@@ -320,7 +323,8 @@ def exact_backbone(
     """
     start = time.perf_counter()
     model = ContactModel() if model is None else model
-    points = check_int("points", points, 1)
+    points = check_int("points", points, 1, MAX_POINTS, why="each level holds its quadrature "
+                       "nodes; a finer curve is several calls")
     nodes = check_int("nodes", nodes, 8)
     r = restoring_force(model)
     y0 = r.y0_m

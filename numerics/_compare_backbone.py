@@ -160,7 +160,8 @@ def compare_backbones(
         raise ValueError(f"`orders` must be a sequence of integers >= 0, got {orders!r}.") from None
     if not orders:
         raise ValueError(f"`orders` must be a non-empty sequence of integers >= 0, got {orders!r}.")
-    points = check_int("points", points, 2)
+    points = check_int("points", points, 2, 1_000_000, why="a curve of a million amplitudes "
+                       "is finer than any figure")
     tolerance = check_positive("tolerance", tolerance)
     numbers = eq26_numbers(model.parameters)
     exact = exact_backbone(numbers.y0_m * np.geomspace(1e-4, 3.0, points), model=model)

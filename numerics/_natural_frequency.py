@@ -108,7 +108,8 @@ def natural_frequency_vs_height(
     start = time.perf_counter()
     if not isinstance(parameters, ContactParameters):
         raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
-    points = check_int("points", points, 2)
+    points = check_int("points", points, 2, 1_000_000, why="a curve of a million heights is "
+                       "finer than any figure")
     if height_m is None:
         height_m = np.linspace(0.005, 0.15, points)
     heights = lane_array("height_m", height_m, positive=True)

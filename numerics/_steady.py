@@ -42,8 +42,13 @@ _LONGEST_CHUNK = 4096  # ... and at most this many, far past the default cap
 _DECAY_TIMES = 30
 _CAP_PERIODS = (1200, 120_000)
 #: Steps per period follow f_e by default: at least 128, and enough that omega0 * dt
-#: is at most this (a period at low f_e holds many natural oscillations).
+#: is at most this (a period at low f_e holds many natural oscillations), but at most
+#: _AUTO_MAX_STEPS (beyond, a lane may fail or be under-resolved, and says so).
 _AUTO_OMEGA0_DT = 0.5
+_AUTO_MAX_STEPS = 2**16
+#: The most RK4 steps a lane marches in one pass (some 1-5 s for one lane): the cap in
+#: periods is lowered where a period takes many steps, so that no case hangs.
+_LANE_STEP_BUDGET = 2 * 10**8
 _NEWTON_ITERATIONS = 10
 _SPAN_FLOOR = 1e-3  # of y0: the smallest length scale of the settling test
 _REACH_CONTINUATION = 0.5  # how far (relative to App) Newton may move a sweep's guess
@@ -383,11 +388,12 @@ def check_steps(steps_per_period) -> None:
 
 def lane_steps(steps_per_period, frequency_hz: np.ndarray, omega0_rad_s: float) -> np.ndarray:
     """Steps per period of each lane: as given, or with "auto" at least 128 and a power
-    of two large enough that omega0 * dt <= _AUTO_OMEGA0_DT (at 1 Hz: 32768)."""
+    of two large enough that omega0 * dt <= _AUTO_OMEGA0_DT (at 1 Hz: 32768), up to
+    _AUTO_MAX_STEPS."""
     if steps_per_period != "auto":
         return np.full(frequency_hz.shape, int(steps_per_period), dtype=np.int64)
     needed = omega0_rad_s / (_AUTO_OMEGA0_DT * frequency_hz)
-    return np.maximum(128, 2 ** np.ceil(np.log2(needed))).astype(np.int64)
+    return np.clip(2 ** np.ceil(np.log2(needed)), 128, _AUTO_MAX_STEPS).astype(np.int64)
 
 
 def _solve_by_steps(lanes, steps, f_e, p_a, y, v, guess, span, **solve) -> Orbits:
@@ -407,6 +413,8 @@ def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, c
            continuation, keep_orbits) -> Orbits:
     """One pass at a fixed step: Newton continuation, then marching and polishing."""
     f_e, p_a, y, v, guess, span, cap = (a[lanes] for a in (f_e, p_a, y, v, guess, span, cap))
+    # A bounded time: no more than _LANE_STEP_BUDGET steps per lane in this pass.
+    cap = np.minimum(cap, max(_LANE_STEP_BUDGET // steps, _CHUNK))
     batch = _Batch(model, f_e, p_a, steps, tol)
     state = Orbits.empty(f_e, p_a, steps)
     failed_period = np.full(lanes.size, -1, dtype=np.int64)

@@ -32,8 +32,23 @@ def test_the_sweep_json_says_which_point_failed(tmp_path):
     subprocess.run([sys.executable, "-m", "numerics", "sweep", "--pa-frac", "0.1", "--fmin", "1",
                     "--fmax", "301", "--points", "2", "--direction", "up", "--steps", "128",
                     "--json", str(target), "--quiet"], check=True, capture_output=True)
-    run = json.loads(target.read_text())["runs"][0]  # json.loads rejects bare NaN tokens
+    # Regression: unsettled points were written as bare NaN tokens, which strict
+    # parsers reject; Python's json accepts them unless told not to.
+    run = json.loads(target.read_text(), parse_constant=_reject)["runs"][0]
     assert run["status"] == [-1, 0] and run["app_m"][0] is None and run["settled"] == [False, True]
+
+
+def _reject(token):
+    raise ValueError(f"not strict JSON: {token}")
+
+
+def test_no_force_prints_no_warning():
+    # Regression: `--pa-frac 0` printed a RuntimeWarning (0/0 in the jump detector)
+    # even with --quiet.
+    done = subprocess.run([sys.executable, "-m", "numerics", "sweep", "--pa-frac", "0",
+                           "--points", "4", "--quiet"], check=True, capture_output=True,
+                          text=True)
+    assert done.stderr == "" and "all settled" in done.stdout
 
 
 def test_the_census_counts_rest_once():

@@ -3,7 +3,7 @@
 The paper's method (Section 2, end) excites the slider at f_e, waits for the
 steady state, and notes the extrema of one period. Here a lane is settled when
 its stroboscopic (once-per-period) state repeats within a relative tolerance
-after p periods, p in 1, 2, 4, 8. Two routes reach that state:
+after p periods, p from 1 to 8. Two routes reach that state:
 
 - Newton shooting: solve Phi_p(x) = x for the state x at phase 0, where Phi_p is
   p periods of the very RK4 map the simulator iterates; the derivative of the
@@ -32,7 +32,7 @@ __all__ = ["SteadyStates", "steady_states", "DEFAULTS"]
 #: Defaults chosen for 0.5 % accuracy of App (tests/test_steady.py shows it).
 DEFAULTS = {"steps_per_period": "auto", "tol": 1e-6, "app_rtol": 5e-3, "max_periods": None,
             "refinements": 2}
-PERIODS_TRIED = (1, 2, 4, 8)
+PERIODS_TRIED = (1, 2, 3, 4, 5, 6, 7, 8)
 _CHUNK = 16  # periods marched between settling checks
 _LONGEST_CHUNK = 4096  # ... and at most this many, far past the default cap
 #: The settling cap, in decay times 1/c of the linearised contact (Eq. 2.6): a linear
@@ -222,24 +222,24 @@ class _Batch(Lanes):
         shrink by a factor rho per period while the transient decays; the
         distance left to the p-periodic orbit is then about max(d) / (1 - rho).
         A lag-p difference alone would accept a slowly decaying transient whose
-        multiplier is near -1 as period 2.
+        multiplier is near -1 as period 2. Every p is tested at once: d has the
+        shape (lanes, p, j).
         """
-        scale = self.scale(span)
-        found = np.zeros(lanes.shape[0], dtype=np.int64)
-        for p in reversed(PERIODS_TRIED):
-            if sy.shape[1] < p + 3:
-                continue
-            with np.errstate(all="ignore"):  # a diverged lane's samples are inf or NaN
-                d = np.stack([
-                    self.distance(lanes, sy[:, j] - sy[:, j - p], sv[:, j] - sv[:, j - p],
-                                  scale)
-                    for j in (-3, -2, -1)
-                ])
-                rho = np.maximum(d[1] / d[0], d[2] / d[1])
-                left = d.max(axis=0) / (1 - rho)
-            at_roundoff = d.max(axis=0) < self.tol * 1e-3
-            found[at_roundoff | ((rho < 1) & (left < self.tol))] = p
-        return found
+        periods = np.array([p for p in PERIODS_TRIED if sy.shape[1] >= p + 3])
+        if not periods.size:
+            return np.zeros(lanes.shape[0], dtype=np.int64)
+        last = np.array([-3, -2, -1]) + sy.shape[1]
+        now, before = last[None, :], last[None, :] - periods[:, None]  # (p, j)
+        scale = self.scale(span)[:, None, None]
+        omega = self.omega[lanes][:, None, None]
+        with np.errstate(all="ignore"):  # a diverged lane's samples are inf or NaN
+            d = (np.abs(sy[:, now] - sy[:, before]) / scale
+                 + np.abs(sv[:, now] - sv[:, before]) / (omega * scale))
+            rho = np.maximum(d[..., 1] / d[..., 0], d[..., 2] / d[..., 1])
+            left = d.max(axis=2) / (1 - rho)
+        reached = (d.max(axis=2) < self.tol * 1e-3) | ((rho < 1) & (left < self.tol))
+        # The least p reached (argmax finds the first True); 0 where none is.
+        return np.where(reached.any(axis=1), periods[np.argmax(reached, axis=1)], 0)
 
 
 def _solve_2x2(a: np.ndarray, b0: np.ndarray, b1: np.ndarray):
@@ -481,7 +481,8 @@ def _fate(state: Orbits, batch: _Batch, failed_period, cap: np.ndarray,
                 state.message[lane] = message
     for lane in np.flatnonzero((state.status == Status.NOT_SETTLED) & ~failed):
         state.message[lane] = (f"not settled within {cap[lane]} periods (quasi-periodic, "
-                               "chaotic, or a slow transient)")
+                               f"chaotic, a period above {max(PERIODS_TRIED)}, or a slow "
+                               "transient)")
 
 
 #: How good each status is (0 best), indexed by status + 1: a finer pass replaces a

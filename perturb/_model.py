@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Mapping
-from functools import cache, cached_property
+from functools import cache, cached_property, lru_cache
 
 import sympy as sp
 
@@ -170,13 +170,9 @@ class ContactModel:
         """``{"parameters": {...}, "effects": {...}, "y0_m": ..., "f_n0_hz": ..., ...}``:
         the model as plain JSON-ready values, with the numbers of Eq. 2.6 it implies
         (``Eq26Numbers``: derived, for a reader of the file; ``from_dict`` ignores them)."""
-        from ._eq26 import eq26_numbers
-
-        return {
-            "parameters": self.parameters.as_dict(),
-            "effects": dataclasses.asdict(self.effects),
-            **eq26_numbers(self.parameters).as_dict(),
-        }
+        record = _model_record(self.parameters, self.effects)  # cached: every result asks
+        return {**record, "parameters": dict(record["parameters"]),
+                "effects": dict(record["effects"])}
 
     @classmethod
     def from_dict(cls, data: Mapping) -> ContactModel:
@@ -202,3 +198,11 @@ class ContactModel:
     def __repr__(self) -> str:
         values = "paper values" if self.parameters == PAPER else repr(self.parameters)
         return f"ContactModel({values}; {self.effects.describe()})"
+
+
+@lru_cache(maxsize=64)
+def _model_record(parameters: ContactParameters, effects: Effects) -> dict:
+    from ._eq26 import eq26_numbers
+
+    return {"parameters": parameters.as_dict(), "effects": dataclasses.asdict(effects),
+            **eq26_numbers(parameters).as_dict()}

@@ -12,7 +12,7 @@ from perturb import frequency_response
     "call, message",
     [
         (lambda: steady_states(1000.0, 0.1, period_guess=0), "`period_guess`"),
-        (lambda: steady_states(1000.0, 0.1, period_guess=3), "`period_guess`"),
+        (lambda: steady_states(1000.0, 0.1, period_guess=9), "`period_guess`"),
         (lambda: steady_states(1000.0, 0.1, method="euler"), "`method`"),
         (lambda: steady_states([1000.0, 900.0], [0.1, 0.2, 0.3]), "broadcast"),
         (lambda: attractors(740.0, 0.15, grid={"y_over_y0": [1.0]}), "`grid`"),

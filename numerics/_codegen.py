@@ -25,11 +25,6 @@ from perturb import ContactModel
 
 __all__ = ["compiled_kernels", "acceleration_source", "cache_dir", "CacheWarning"]
 
-#: The kernels every generated module must define (a module without them is broken).
-_KERNELS = ("advance_periods", "record_periods", "shoot_periods", "strobe_periods",
-            "acceleration_batch")
-
-
 class CacheWarning(UserWarning):
     """The kernel cache could not be used as configured; a fallback is used instead."""
 
@@ -183,12 +178,36 @@ def _import(path: Path, key: str) -> ModuleType:
     sys.modules[name] = module
     try:
         spec.loader.exec_module(module)
-        for kernel in _KERNELS:
-            getattr(module, kernel)
+        _smoke(module)
     except Exception:
         sys.modules.pop(name, None)
         raise
     return module
+
+
+def _smoke(module: ModuleType) -> None:
+    """Call every kernel once on one lane, with the argument types of the real calls.
+
+    numba loads a kernel's machine code from its cache at the first call, not at
+    import: a truncated or garbled cache file shows only here (and is then rebuilt
+    by ``_load``). Matching the real types, the calls load what the real ones use.
+    """
+    import numpy as np
+
+    lane = np.ones(1)
+    drive = np.cos(np.pi * np.arange(9) / 4)  # 4 steps per period, as drive_table(4)
+    drive.flags.writeable = False
+    failed = np.full(1, -1, dtype=np.int64)
+    state = [np.full(1, 1e-7), np.zeros(1), np.full(1, 1e-4), np.zeros(1)]  # y, v, dt, P_a
+    module.advance_periods(*[a.copy() for a in state], drive, 1, failed.copy(), lane)
+    module.record_periods(
+        *[a.copy() for a in state], drive, 1, failed.copy(), 0, np.empty(1), np.empty(1),
+        np.empty((1, 0)), np.empty((1, 0)), np.empty((1, 0), dtype=np.int8),
+        np.zeros(1, dtype=np.int64), np.empty((1, 0)), np.empty((1, 0)), lane)
+    module.shoot_periods(*[a.copy() for a in state], drive, 1, np.empty((1, 2, 2)))
+    module.strobe_periods(*[a.copy() for a in state], drive, 1, np.empty((1, 1)),
+                          np.empty((1, 1)), np.empty(1), failed.copy(), 0, lane)
+    module.acceleration_batch(lane.copy(), lane.copy(), lane.copy())
 
 
 def _load(key: str, model: ContactModel) -> ModuleType:

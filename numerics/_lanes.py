@@ -50,10 +50,12 @@ def failure_message(frequency_hz: float, p_a_n: float, period: int, omega0_dt: f
     """Why a lane failed, with a hint when the step is too large for the contact."""
     message = (f"f_e={frequency_hz:g} Hz, P_a={p_a_n:g} N: state became non-finite or "
                f"diverged (|y| > {DIVERGENCE_FACTOR:g} max(y0, g/f_e^2)) in period {period}")
-    # RK4 is stable for omega * dt below 2 sqrt(2) on an undamped oscillator.
+    # RK4 is stable for omega * dt below 2 sqrt(2) on an undamped oscillator, and for
+    # rate * dt below 2.78 on a decaying one.
     if omega0_dt >= 2.0:
-        message += (f"; the step is too large for the contact: omega0*dt = {omega0_dt:.3g} "
-                    "(RK4 needs < 2.8): raise steps_per_period")
+        message += (f"; the step is too large for the contact: rate*dt = {omega0_dt:.3g}, "
+                    "the rate being omega0 or, overdamped, the fastest decay (RK4 needs "
+                    "< 2.8): raise steps_per_period")
     return message
 
 
@@ -125,9 +127,9 @@ class Lanes:
         lanes = np.arange(self.dt.size) if lanes is None else np.asarray(lanes)
         if not (failed_period >= 0).any():
             return [""] * failed_period.size
-        omega0 = eq26_numbers(self.model.parameters).omega0_rad_s
+        rate = eq26_numbers(self.model.parameters).fastest_rate_per_s
         return [
-            failure_message(self.frequency_hz[i], self.p_a[i], int(p), omega0 * self.dt[i])
+            failure_message(self.frequency_hz[i], self.p_a[i], int(p), rate * self.dt[i])
             if p >= 0 else ""
             for i, p in zip(lanes, failed_period)
         ]

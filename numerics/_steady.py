@@ -62,6 +62,11 @@ _EXTREMA_PER_PERIOD = 64  # room for local extrema per period of the response
 #: by more than the tolerance (at 1.0: 1.1 %); 0.5 keeps a margin of 1.5 below that.
 _RESOLVED_OMEGA_DT = 0.5
 _ROUNDOFF = 1e-14  # of y0: App changes below this are round-off (about 100 ulp of y0)
+#: The orbit's sensitivity 1 / (1 - |mu|) where its multipliers are not known (a lane
+#: settled by marching alone): that of |mu| = 0.9, about the paper's primary peak.
+_UNKNOWN_AMPLIFICATION = 10.0
+#: 2^q - 1 with q = 2, RK4's order through the kink of loss of contact.
+_ORDER_FACTOR = 3.0
 
 
 @result
@@ -342,9 +347,10 @@ def steady_states(
     """
     check_choice("method", method, ("newton", "march"))
     model = check_model(model)
-    check_steps(steps_per_period)
     max_periods = None if max_periods is None else check_int("max_periods", max_periods)
-    refinements = check_int("refinements", refinements, minimum=0)
+    refinements = check_int("refinements", refinements, minimum=0, maximum=_MAX_REFINEMENTS,
+                            why="each doubles the steps")
+    check_steps(steps_per_period, refinements)
     tol = check_positive("tol", tol)
     app_rtol = None if app_rtol is None else check_positive("app_rtol", app_rtol)
     guesses = np.atleast_1d(np.asarray(period_guess))
@@ -355,7 +361,7 @@ def steady_states(
         app_guess_m=lane_array("app_guess_m", 0.0 if app_guess_m is None else app_guess_m))
     start = time.perf_counter()
     numbers = eq26_numbers(model.parameters)
-    steps = lane_steps(steps_per_period, f_e, numbers.omega0_rad_s)
+    steps = lane_steps(steps_per_period, f_e, numbers.fastest_rate_per_s)
     if max_periods is None:  # the settling cap is a time: _DECAY_TIMES decay times 1/c
         cap = np.clip(np.ceil(_DECAY_TIMES * f_e / numbers.c_per_s), *_CAP_PERIODS)
     else:
@@ -372,7 +378,8 @@ def steady_states(
                               | (state.status == Status.UNDER_RESOLVED))
         if not redo.size:
             break
-        finer = _solve_by_steps(redo, steps * 2**level, f_e, p_a, y, v, guess, span, **solve)
+        finer = _solve_by_steps(redo, np.minimum(steps * 2**level, MAX_STEPS), f_e, p_a, y, v,
+                                guess, span, **solve)
         _merge(state, redo, finer)
     settings = {"steps_per_period": steps_per_period, "tol": tol, "app_rtol": app_rtol,
                 "max_periods": max_periods, "method": method, "refinements": refinements}
@@ -380,19 +387,29 @@ def steady_states(
                         elapsed_s=time.perf_counter() - start)
 
 
-def check_steps(steps_per_period) -> None:
-    """``"auto"`` or an integer >= 4, or a ValueError naming the argument."""
+#: The most steps per period any pass takes, refinements included (a drive table of
+#: 2^21 + 1 numbers; a period of one lane then takes a few milliseconds).
+MAX_STEPS = 2**20
+_MAX_REFINEMENTS = 8
+
+
+def check_steps(steps_per_period, refinements: int = 0) -> None:
+    """``"auto"`` or an integer >= 4 whose refinements stay within MAX_STEPS, or a
+    ValueError naming the argument."""
     if steps_per_period != "auto":
-        check_int("steps_per_period", steps_per_period, minimum=4)
+        check_int("steps_per_period", steps_per_period, minimum=4,
+                  maximum=MAX_STEPS // 2**refinements,
+                  why=f"with {refinements} refinement(s) doubling it, at most {MAX_STEPS}")
 
 
-def lane_steps(steps_per_period, frequency_hz: np.ndarray, omega0_rad_s: float) -> np.ndarray:
+def lane_steps(steps_per_period, frequency_hz: np.ndarray, rate_per_s: float) -> np.ndarray:
     """Steps per period of each lane: as given, or with "auto" at least 128 and a power
-    of two large enough that omega0 * dt <= _AUTO_OMEGA0_DT (at 1 Hz: 32768), up to
+    of two large enough that rate * dt <= _AUTO_OMEGA0_DT, the rate being the contact's
+    fastest (omega0, or the overdamped rate; at 1 Hz, paper: 32768), up to
     _AUTO_MAX_STEPS."""
     if steps_per_period != "auto":
         return np.full(frequency_hz.shape, int(steps_per_period), dtype=np.int64)
-    needed = omega0_rad_s / (_AUTO_OMEGA0_DT * frequency_hz)
+    needed = rate_per_s / (_AUTO_OMEGA0_DT * frequency_hz)
     return np.clip(2 ** np.ceil(np.log2(needed)), 128, _AUTO_MAX_STEPS).astype(np.int64)
 
 
@@ -519,12 +536,15 @@ def _record_orbits(batch: _Batch, state: Orbits, keep_orbits: bool) -> None:
         rec = batch.record(y, v, int(p), np.full(group.size, -1, dtype=np.int64),
                            extrema_width=width, history=True, lanes=group)
         batch.periods_run[group] += p
+        if (rec.count > width).any():
+            # Round-off ringing (a resting orbit) can change the sign of v at every
+            # step: record again with room for one extremum per step, the most there is.
+            y, v = state.y_start_m[group].copy(), state.v_start_m_s[group].copy()
+            rec = batch.record(y, v, int(p), np.full(group.size, -1, dtype=np.int64),
+                               extrema_width=steps * int(p), history=True, lanes=group)
         least = _least_period(batch, group, state, rec.history_y[:, steps - 1 :: steps],
                               rec.history_v[:, steps - 1 :: steps], rec.ymax - rec.ymin)
         state.period[group] = least
-        if (rec.count > width).any():
-            raise RuntimeError(f"an orbit has {int(rec.count.max())} local extrema in {p} "
-                               f"period(s), more than the {width} recorded")
         for j, lane in enumerate(group):
             n = rec.count[j]
             within = rec.phase[j, :n] < least[j]
@@ -544,11 +564,13 @@ def _estimate_step_error(batch: _Batch, state: Orbits) -> None:
 
     One orbit period from the orbit's start at half the steps gives App(N/2). With
     an error C dt^q, App(N) - App(N/2) = (2^q - 1) err(N). Through the kink of loss
-    of contact RK4's order falls to 2 and, measured on bouncing orbits at 490 Hz,
-    0.5Q, locally below it; q = 1 is taken, so the estimate is |App(N) - App(N/2)|
-    over App(N) (fifteen times the error where RK4 keeps its fourth order). The
-    comparison holds only in RK4's asymptotic range: where
-    omega * dt at the stiffest point of the orbit exceeds ``_RESOLVED_OMEGA_DT``
+    of contact RK4's order falls to 2: q = 2 is taken. One period sees the error made in one
+    period; the periodic orbit itself moves by that error times 1 / (1 - |mu|), mu
+    the largest Floquet multiplier (near a resonance, |mu| nears 1), so the change
+    is scaled by it (by _UNKNOWN_AMPLIFICATION where the multipliers are not known).
+    A change below round-off of y (_ROUNDOFF y0) is taken as that round-off: a tiny
+    App is known only to it. The comparison holds only in RK4's asymptotic range:
+    where omega * dt at the stiffest point of the orbit exceeds _RESOLVED_OMEGA_DT
     the error cannot be estimated, and the estimate is inf (the lane is refined).
     """
     settled = np.flatnonzero(state.settled)
@@ -556,10 +578,13 @@ def _estimate_step_error(batch: _Batch, state: Orbits) -> None:
         return
     app = state.app_m[settled]
     half = _orbit_app(batch, state, settled, max(batch.steps // 2, 2))
+    largest = np.abs(state.multipliers[settled]).max(axis=1)
     with np.errstate(all="ignore"):
-        change = np.abs(app - half)
-        # A change below round-off of y (a resting orbit) says nothing about the step.
-        estimate = np.where(change <= _ROUNDOFF * batch.length, 0.0, change / app)
+        amplification = np.where(largest < 1, 1 / (1 - largest), _UNKNOWN_AMPLIFICATION)
+        floor = _ROUNDOFF * batch.length
+        change = np.maximum(np.abs(app - half), floor) * amplification / _ORDER_FACTOR
+        # An App at round-off itself is rest: there is nothing to resolve.
+        estimate = np.where(app <= floor, 0.0, change / app)
     resolved = _stiffest_omega_dt(batch, state, settled) <= _RESOLVED_OMEGA_DT
     state.error_estimate[settled] = np.where(resolved, np.nan_to_num(estimate, nan=np.inf),
                                              np.inf)

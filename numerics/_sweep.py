@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from common import Result, check_choice, lane_array, lookup, progress, result
+from common import Result, Status, check_choice, lane_array, lookup, progress, result
 from perturb import ContactModel, eq26_numbers
 
 from ._orbits import Orbits
@@ -154,10 +154,10 @@ def sweep(
 def _sweep_lanes(freq, p_a, model, quiet, **accuracy) -> Orbits:
     """Walk every lane through its frequencies; the points, frequency by frequency.
 
-    Each point starts from the orbit of the last point that settled (the paper's
-    method), or from rest if none has: a point that failed, diverged or did not
-    settle is reported with its status, and its last state, which can be huge but
-    finite, never seeds the next point.
+    Each point starts from the orbit of the last point that settled, under-resolved
+    or not (the paper's method), or from rest if none has: a point that failed,
+    diverged or did not settle is reported with its status, and its last state,
+    which can be huge but finite, never seeds the next point.
     """
     found = []
     lanes = freq.shape[0]
@@ -168,7 +168,9 @@ def _sweep_lanes(freq, p_a, model, quiet, **accuracy) -> Orbits:
     for j in range(freq.shape[1]):
         point = steady_states(freq[:, j], p_a, model=model, y_init_m=y, v_init_m_s=v,
                               period_guess=period, app_guess_m=continued, **accuracy)
-        good = point.settled
+        # A settled orbit seeds the next point, an under-resolved one too (it is an
+        # orbit, only its error estimate is above app_rtol); a failed or unsettled one never.
+        good = point.settled | (point.status == Status.UNDER_RESOLVED)
         y = np.where(good, point.y_start_m, y)
         v = np.where(good, point.v_start_m_s, v)
         app = np.where(good, point.app_m, app)

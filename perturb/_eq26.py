@@ -80,6 +80,14 @@ class Eq26Numbers:
     damping_ratio: float
     G_per_P_a: float
 
+    @property
+    def fastest_rate_per_s(self) -> float:
+        """The largest |eigenvalue| of the linearised contact, u'' + 2c u' + omega0^2 u:
+        omega0 when underdamped, c + sqrt(c^2 - omega0^2) when overdamped [1/s]. A
+        step resolves the contact where this rate times dt is small."""
+        c, omega0 = self.c_per_s, self.omega0_rad_s
+        return max(omega0, c + math.sqrt(max(c * c - omega0 * omega0, 0.0)))
+
     def as_dict(self) -> dict[str, float]:
         """The eight numbers by name, in the order of the fields."""
         return asdict(self)

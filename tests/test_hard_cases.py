@@ -23,7 +23,7 @@ def test_a_failed_point_does_not_poison_the_sweep():
     after = sweep(np.array([1.0, 300.0, 310.0, 320.0]), 0.1, direction="up",
                   steps_per_period=128).runs[0]
     assert after.status.tolist() == [Status.FAILED, 0, 0, 0]
-    assert "omega0*dt" in after.message[0] and "raise steps_per_period" in after.message[0]
+    assert "rate*dt" in after.message[0] and "raise steps_per_period" in after.message[0]
     assert np.array_equal(after.app_m[1:], alone.app_m)
 
 
@@ -110,10 +110,13 @@ def test_the_census_at_too_few_steps_lists_no_spurious_attractor():
     # Regression: at 8 steps the census listed two different "1/3 superharmonic"
     # entries. Now it counts only states that pass the error check.
     census = attractors(490.0, 0.5, steps_per_period=8)
-    labels = [a.label for a in census.attractors]
-    assert len(labels) == len(set(labels))
     assert census.lanes.status.tolist().count(Status.UNDER_RESOLVED) > 0
     assert "under-resolved" in str(census)
+    # Each attractor it lists is one of the census at the default steps, within app_rtol.
+    reference = attractors(490.0, 0.5)
+    for attractor in census.attractors:
+        assert any(a.period == attractor.period and abs(a.app_m / attractor.app_m - 1) < 5e-3
+                   for a in reference.attractors), attractor
 
 
 def test_sizes_beyond_the_limits_are_refused_before_any_work():
@@ -368,3 +371,64 @@ def test_a_chaotic_response_is_not_settled():
     rate = _largest_lyapunov_per_period(1400.0, lanes.p_a_n[0], lanes.y_start_m[0],
                                         lanes.v_start_m_s[0], int(lanes.steps_used[0]))
     assert rate > 0.1, rate
+
+
+def test_a_contact_too_stiff_for_the_step_fails_in_seconds_and_says_why():
+    # m2 = 1 with the paper's c_n: f_n0 = 2.2 MHz, so at 1 Hz a period would need some
+    # 2^25 steps. "auto" starts at 2^16, refinements double it up to 2^18, and the lane
+    # fails in bounded time with the step's rate*dt in the message.
+    import time
+
+    from numerics import steady_states
+    from perturb import PAPER, ContactModel, ContactParameters
+
+    start = time.perf_counter()
+    found = steady_states(1.0, 0.1 * PAPER.Q_n, model=ContactModel(ContactParameters(m2=1.0)))
+    assert found.status.tolist() == [Status.FAILED]
+    assert "rate*dt" in found.message[0] and "raise steps_per_period" in found.message[0]
+    assert time.perf_counter() - start < 60
+
+
+def test_auto_steps_follow_an_overdamped_contact():
+    # m2 = 3 with the paper's h_n is overdamped (damping ratio about 31): its fastest
+    # rate is c + sqrt(c^2 - omega0^2), not omega0; steps that followed omega0 alone
+    # failed at 1 Hz in the first period.
+    from numerics import steady_states
+    from perturb import PAPER, ContactModel, ContactParameters, eq26_numbers
+
+    model = ContactModel(ContactParameters(m2=3.0))
+    numbers = eq26_numbers(model.parameters)
+    assert numbers.c_per_s > 10 * numbers.omega0_rad_s
+    found = steady_states(1.0, 0.5 * PAPER.Q_n, model=model)
+    assert found.settled.all(), found.message
+
+
+def test_steps_beyond_the_bound_are_refused_before_any_work():
+    import pytest
+
+    from numerics import steady_states
+
+    with pytest.raises(ValueError, match="at most 1048576"):
+        steady_states(1000.0, 0.1, steps_per_period=2**20)  # 2 refinements: 2^22
+    with pytest.raises(ValueError, match="`refinements` must be an integer <= 8"):
+        steady_states(1000.0, 0.1, refinements=25)
+
+
+def test_a_coarse_sweep_is_right_or_flagged_point_by_point():
+    # Regression (review): under-resolved points did not seed the next point, so after
+    # a run of them a down sweep at 16 steps lost the bouncing branch and reported the
+    # small orbit as settled (0.3Q, 450 Hz: 77.9 nm against 6313.8 nm). Now every
+    # settled point is within app_rtol of its own orbit at 2048 steps (a coarse sweep
+    # may still jump elsewhere in a multistable band: that orbit is then as right).
+    from numerics import steady_states
+
+    result = sweep(np.linspace(250.0, 1800.0, 156), 0.3, direction="down", steps_per_period=16)
+    run = result.runs[0]
+    ok = run.settled
+    fine = steady_states(run.frequency_hz[ok], run.p_a_n[ok], steps_per_period=2048,
+                         refinements=0, app_rtol=None, y_init_m=run.y_start_m[ok],
+                         v_init_m_s=run.v_start_m_s[ok])
+    assert ok.sum() > 100 and fine.settled.all()
+    error = np.abs(run.app_m[ok] / fine.app_m - 1)
+    assert error.max() <= result.settings["app_rtol"], error.max()
+    assert run.contact_lost[np.argmin(np.abs(run.frequency_hz - 450.0))]  # still bouncing

@@ -40,5 +40,11 @@ def test_every_excitation_ends_sound(pa_frac, frequency_hz):
 @given(pa_frac=FORCE, frequency_hz=FREQUENCY, m2=st.floats(1.0, 3.0), l=st.floats(0.0, 2.0),
        damping=st.floats(-3.0, 1.0).map(lambda decade: 10.0**decade))
 def test_every_contact_ends_sound(pa_frac, frequency_hz, m2, l, damping):
-    model = ContactModel(ContactParameters(m2=m2, l=l, h_n=PAPER.h_n * damping))
+    # `damping` scales c of Eq. 2.6, 2c = S h_n y0^l / M: h_n is chosen for this m2 and l
+    # from y0 = (M g / (S c_n))^(1/m2) (Eq. 2.1 at rest), so that l alone does not
+    # change the damping by orders of magnitude.
+    p = PAPER
+    y0, y0_paper = (p.Q_n / (p.S * p.c_n)) ** (1 / m2), (p.Q_n / (p.S * p.c_n)) ** (1 / p.m2)
+    h_n = p.h_n * damping * y0_paper**p.l / y0**l
+    model = ContactModel(ContactParameters(m2=m2, l=l, h_n=h_n))
     _sound(steady_states(frequency_hz, pa_frac * PAPER.Q_n, model=model, refinements=1))

@@ -72,11 +72,13 @@ def test_a_failing_lane_does_not_stop_the_batch(weight):
 
 
 def test_an_unstable_step_is_caught_and_explained(weight):
-    # m2 = 1 with the paper's c_n makes a very stiff contact: omega0 dt ~ 109 at 128
-    # steps per period. Regression: the state grew to -5e18 m without being flagged.
+    # m2 = 1 with the paper's c_n makes a very stiff contact (omega0 dt ~ 109 at 128
+    # steps per period), and l = 0 a strongly overdamped one: its fastest rate, c +
+    # sqrt(c^2 - omega0^2), gives rate*dt = 1.17e4. Regression: the state grew to
+    # -5e18 m without being flagged.
     model = ContactModel(ContactParameters(m2=1.0, l=0.0))
     run = simulate(1000.0, 0.1 * weight, periods=5, model=model)
-    assert run.failed[0] and "omega0*dt = 109" in run.message[0]
+    assert run.failed[0] and "rate*dt = 1.17e+04" in run.message[0]
 
 
 def test_a_diverging_bounce_is_flagged_and_resolved_by_finer_steps(weight):

@@ -120,8 +120,8 @@ def bench_response() -> None:
         "s",
         higher_is_better=False,
     )
-    for label, frequencies_hz in ACCURACY_POINTS.items():
-        row(f"|App/App_RK4 - 1|, order 6, 0.05 Q: {label}", _accuracy(frequencies_hz))
+    for label, frequency_hz in ACCURACY_POINTS.items():
+        row(f"|App/App_RK4 - 1|, order 6, 0.05 Q: {label}", _accuracy(frequency_hz))
 
 
 #: Where the order-6 App is held against RK4 of Eq. 2.6 at 0.05 Q.
@@ -132,7 +132,7 @@ ACCURACY_POINTS = {
 }
 
 
-def _accuracy(frequencies_hz) -> float:
+def _accuracy(frequency_hz) -> float:
     """Largest error of the valid order-6 roots on stable-type branches (0, 2, ...).
 
     RK4 starts from rest and from the state of every series root at t = 0, so
@@ -140,9 +140,9 @@ def _accuracy(frequencies_hz) -> float:
     against the nearest attractor of its frequency.
     """
     values = eq26_numbers()
-    response = frequency_response(np.array(frequencies_hz), 0.05, 6)
+    response = frequency_response(np.array(frequency_hz), 0.05, 6)
     formulas = compile_series(6)
-    starts = [(f, values.y0_m, 0.0) for f in frequencies_hz]
+    starts = [(f, values.y0_m, 0.0) for f in frequency_hz]
     for b in response.branches:
         Omega = 2 * np.pi * b.frequency_hz
         theta_1 = -np.angle(b.omega_rad_s**2 - Omega**2 + 2j * values.c_per_s * Omega)

@@ -432,3 +432,20 @@ def test_a_coarse_sweep_is_right_or_flagged_point_by_point():
     error = np.abs(run.app_m[ok] / fine.app_m - 1)
     assert error.max() <= result.settings["app_rtol"], error.max()
     assert run.contact_lost[np.argmin(np.abs(run.frequency_hz - 450.0))]  # still bouncing
+
+
+def test_round_off_ringing_at_rest_is_recorded_not_raised():
+    # Regression (review): at P_a = 1e-12 Q and a low f_e, round-off made v change sign
+    # at nearly every step, more local extrema than there was room for, and a
+    # RuntimeError escaped, from the command line too. The quasi-static App is
+    # y0 P_a / Q (m2 = 2); it is met to the round-off of y (~1e-14 y0 over 1e-12 y0).
+    from numerics import steady_states
+    from perturb import PAPER, eq26_numbers
+
+    found = steady_states([1.0, 10.0, 40.0], 1e-12 * PAPER.Q_n)
+    assert found.status.tolist() == [Status.SUCCESS] * 3, found.message
+    assert abs(found.app_m[0] / (eq26_numbers().y0_m * 1e-12) - 1) < 2e-2
+    done = subprocess.run([sys.executable, "-m", "numerics", "sweep", "--pa-frac", "1e-12",
+                           "--fmin", "1", "--fmax", "40", "--points", "3", "--quiet"],
+                          capture_output=True, text=True)
+    assert done.returncode == 0 and done.stderr == "", done.stderr

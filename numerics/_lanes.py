@@ -122,14 +122,13 @@ class Lanes:
         )
         return out
 
-    def failure_messages(self, failed_period: np.ndarray, lanes=None) -> list[str]:
+    def failure_messages(self, failed_period: np.ndarray) -> list[str]:
         """Per lane, why it failed ("" where it did not)."""
-        lanes = np.arange(self.dt.size) if lanes is None else np.asarray(lanes)
         if not (failed_period >= 0).any():
             return [""] * failed_period.size
         rate = eq26_numbers(self.model.parameters).fastest_rate_per_s
         return [
             failure_message(self.frequency_hz[i], self.p_a[i], int(p), rate * self.dt[i])
             if p >= 0 else ""
-            for i, p in zip(lanes, failed_period)
+            for i, p in enumerate(failed_period)
         ]

@@ -13,7 +13,7 @@ import numpy as np
 
 from common import Result, Status, result
 
-__all__ = ["Orbits"]
+__all__ = ["Orbits", "fates"]
 
 # Plain integers for the comparisons made once per point of a sweep (an IntEnum
 # member lookup costs more than the comparison itself).
@@ -119,11 +119,7 @@ class Orbits(Result):
 
     def fates(self) -> str:
         """How many points did not settle, were under-resolved or failed ("" if none)."""
-        counts = np.bincount(self.status - int(Status.FAILED), minlength=4)
-        names = {Status.NOT_SETTLED: "not settled", Status.UNDER_RESOLVED: "under-resolved",
-                 Status.FAILED: "failed"}
-        return ", ".join(f"{counts[int(s) - int(Status.FAILED)]} {name}"
-                         for s, name in names.items() if counts[int(s) - int(Status.FAILED)])
+        return fates(self.status)
 
     def columns(self) -> dict:
         """The record's fields, by name (to build a subclass from them)."""
@@ -168,3 +164,11 @@ def _take(value, index):
     if isinstance(value, np.ndarray):
         return value[index]
     return [value[i] for i in index]
+
+
+def fates(status: np.ndarray) -> str:
+    """How many of ``status`` did not settle, were under-resolved or failed ("" if none)."""
+    names = {Status.NOT_SETTLED: "not settled", Status.UNDER_RESOLVED: "under-resolved",
+             Status.FAILED: "failed"}
+    counts = {name: int((status == s).sum()) for s, name in names.items()}
+    return ", ".join(f"{count} {name}" for name, count in counts.items() if count)

@@ -41,10 +41,11 @@ _LONGEST_CHUNK = 4096  # ... and at most this many, far past the default cap
 #: and at most _CAP_PERIODS[1] (with next to no damping: bounded time, not a hang).
 _DECAY_TIMES = 30
 _CAP_PERIODS = (1200, 120_000)
-#: Steps per period follow f_e by default: at least 128, and enough that omega0 * dt
-#: is at most this (a period at low f_e holds many natural oscillations), but at most
+#: Steps per period follow f_e by default: at least 128, and enough that rate * dt is at
+#: most this, the rate being the contact's fastest (Eq26Numbers.fastest_rate_per_s: a
+#: period at low f_e holds many natural oscillations), but at most
 #: _AUTO_MAX_STEPS (beyond, a lane may fail or be under-resolved, and says so).
-_AUTO_OMEGA0_DT = 0.5
+_AUTO_RATE_DT = 0.5
 _AUTO_MAX_STEPS = 2**16
 #: The most RK4 steps a lane marches in one pass (some 1-5 s for one lane): the cap in
 #: periods is lowered where a period takes many steps, so that no case hangs.
@@ -297,16 +298,17 @@ def steady_states(
         Initial states [m, m/s] (rest at y0 by default); for a sweep, the
         previous orbit.
     period_guess : int or array_like
-        Period p (1, 2, 4 or 8) of the orbit the initial states lie on (in a
-        sweep, the previous point's).
+        Period p (1 to 8) of the orbit the initial states lie on (in a sweep, the
+        previous point's).
     app_guess_m : float or array_like, optional
         App of that orbit [m]. When given, Newton shooting starts from the
         initial states and keeps a result only if it is stable and close to the
         start (continuation); other lanes are time-marched, then polished.
     steps_per_period : int or "auto"
         RK4 steps per excitation period; "auto" (the default) follows f_e: at least
-        128, and a power of two large enough that omega0 * dt <= 0.5 (a period at a
-        low f_e holds many natural oscillations: 32768 steps at 1 Hz).
+        128, and a power of two large enough that rate * dt <= 0.5, the rate being the
+        contact's fastest, omega0 or its overdamped decay (a period at a low f_e holds
+        many natural oscillations: 32768 steps at 1 Hz), up to 2^16.
     tol : float
         Relative tolerance of the stroboscopic repeat.
     app_rtol : float or None
@@ -404,12 +406,12 @@ def check_steps(steps_per_period, refinements: int = 0) -> None:
 
 def lane_steps(steps_per_period, frequency_hz: np.ndarray, rate_per_s: float) -> np.ndarray:
     """Steps per period of each lane: as given, or with "auto" at least 128 and a power
-    of two large enough that rate * dt <= _AUTO_OMEGA0_DT, the rate being the contact's
+    of two large enough that rate * dt <= _AUTO_RATE_DT, the rate being the contact's
     fastest (omega0, or the overdamped rate; at 1 Hz, paper: 32768), up to
     _AUTO_MAX_STEPS."""
     if steps_per_period != "auto":
         return np.full(frequency_hz.shape, int(steps_per_period), dtype=np.int64)
-    needed = rate_per_s / (_AUTO_OMEGA0_DT * frequency_hz)
+    needed = rate_per_s / (_AUTO_RATE_DT * frequency_hz)
     return np.clip(2 ** np.ceil(np.log2(needed)), 128, _AUTO_MAX_STEPS).astype(np.int64)
 
 
@@ -574,6 +576,9 @@ def _estimate_step_error(batch: _Batch, state: Orbits) -> None:
     the error cannot be estimated, and the estimate is inf (the lane is refined).
     """
     settled = np.flatnonzero(state.settled)
+    resolved = _stiffest_omega_dt(batch, state, settled) <= _RESOLVED_OMEGA_DT
+    state.error_estimate[settled[~resolved]] = np.inf  # no half-step run for these
+    settled = settled[resolved]
     if not settled.size:
         return
     app = state.app_m[settled]
@@ -585,9 +590,7 @@ def _estimate_step_error(batch: _Batch, state: Orbits) -> None:
         change = np.maximum(np.abs(app - half), floor) * amplification / _ORDER_FACTOR
         # An App at round-off itself is rest: there is nothing to resolve.
         estimate = np.where(app <= floor, 0.0, change / app)
-    resolved = _stiffest_omega_dt(batch, state, settled) <= _RESOLVED_OMEGA_DT
-    state.error_estimate[settled] = np.where(resolved, np.nan_to_num(estimate, nan=np.inf),
-                                             np.inf)
+    state.error_estimate[settled] = np.nan_to_num(estimate, nan=np.inf)
 
 
 def _stiffest_omega_dt(batch: _Batch, state: Orbits, lanes: np.ndarray) -> np.ndarray:
@@ -596,9 +599,9 @@ def _stiffest_omega_dt(batch: _Batch, state: Orbits, lanes: np.ndarray) -> np.nd
     a central difference of the model's own acceleration."""
     worst = np.zeros(lanes.size)
     zero = np.zeros(lanes.size)
+    accel = batch.kernels.acceleration_batch
     for y in (state.ymin_m[lanes], state.ymax_m[lanes]):
         h = 1e-6 * np.maximum(np.abs(y), batch.length)
-        accel = batch.kernels.acceleration_batch
         slope = (accel(y + h, zero, zero) - accel(y - h, zero, zero)) / (2 * h)
         worst = np.maximum(worst, np.sqrt(np.maximum(-slope, 0.0)))
     return worst * batch.dt[lanes]

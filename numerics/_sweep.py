@@ -14,7 +14,7 @@ import numpy as np
 from common import Result, Status, check_choice, lane_array, lookup, progress, result
 from perturb import ContactModel, eq26_numbers
 
-from ._orbits import Orbits
+from ._orbits import Orbits, fates
 from ._simulate import check_model
 from ._steady import DEFAULTS, check_steps, steady_states
 
@@ -61,10 +61,9 @@ class Sweep(Result):
                       lambda r: (r.pa_frac, r.direction))
 
     def summary(self) -> str:
-        points = Orbits.stack(self.runs) if self.runs else None
-        fates = points.fates() if points is not None else ""
-        return (f"Sweep: {len(self.runs)} runs, {0 if points is None else points.status.size} "
-                f"points, {fates or 'all settled'}, {self.elapsed_s:.3g} s")
+        status = np.concatenate([r.status for r in self.runs]) if self.runs else np.empty(0)
+        return (f"Sweep: {len(self.runs)} runs, {status.size} points, "
+                f"{fates(status) or 'all settled'}, {self.elapsed_s:.3g} s")
 
     def table(self) -> str:
         lines = []

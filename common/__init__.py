@@ -24,6 +24,7 @@ from ._checks import (
 )
 from ._cli import (
     int_at_least,
+    name_value,
     nonnegative_float,
     output_dir,
     output_file,
@@ -56,6 +57,7 @@ __all__ = [
     "lane_array",
     "load",
     "lookup",
+    "name_value",
     "nonnegative_float",
     "note",
     "output_dir",

@@ -15,7 +15,7 @@ import tempfile
 from pathlib import Path
 
 __all__ = ["positive_float", "nonnegative_float", "int_at_least", "output_file", "output_dir",
-           "run_command"]
+           "run_command", "name_value"]
 
 
 def _finite(text: str) -> float:
@@ -40,6 +40,17 @@ def nonnegative_float(text: str) -> float:
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text!r}")
     return value
+
+
+def name_value(text: str) -> tuple[str, float]:
+    """``NAME=VALUE`` (as ``--set m2=1.5``): the name and the finite number.
+
+    Whether the name is known is for the command to say (it knows the names).
+    """
+    name, sep, value = text.partition("=")
+    if not sep or not name.strip():
+        raise argparse.ArgumentTypeError(f"must be NAME=VALUE, got {text!r}")
+    return name.strip(), _finite(value.strip())
 
 
 def int_at_least(minimum: int, maximum: int | None = None):

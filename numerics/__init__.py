@@ -20,6 +20,7 @@ from ._simulate import RECORDABLE, simulate
 from ._simulation import Simulation
 from ._steady import SteadyStates, steady_states
 from ._sweep import Sweep, SweepRun, sweep
+from .scenes import SceneRun, read_scene, run_scene
 
 __all__ = [
     "Attractor",
@@ -30,6 +31,7 @@ __all__ = [
     "HysteresisLoop",
     "Orbits",
     "RECORDABLE",
+    "SceneRun",
     "Simulation",
     "Status",
     "SteadyStates",
@@ -44,7 +46,9 @@ __all__ = [
     "hysteresis_loop",
     "load",
     "natural_frequency_vs_height",
+    "read_scene",
     "reference_last_period",
+    "run_scene",
     "simulate",
     "steady_states",
     "sweep",

@@ -19,7 +19,7 @@ from perturb import symbols as sym
 
 from ._simulate import simulate
 
-__all__ = ["HysteresisLoop", "hysteresis_loop"]
+__all__ = ["HysteresisLoop", "hysteresis_loop", "contact_pressure"]
 
 
 @result
@@ -92,6 +92,12 @@ def _forces(model: ContactModel):
         return np.vectorize(sp.lambdify((sym.y, sym.v), expr, modules="math"), otypes=[float])
 
     return vectorised(reaction), vectorised(spring)
+
+
+def contact_pressure(model: ContactModel, y_m, v_m_s) -> np.ndarray:
+    """The normal contact pressure p = -R / S [Pa] at the states (y, v) (Eq. 2.1)."""
+    reaction, _ = _forces(model)
+    return -reaction(np.asarray(y_m), np.asarray(v_m_s)) / model.parameters.S
 
 
 def _shoelace(x: np.ndarray, y: np.ndarray) -> float:

@@ -89,6 +89,7 @@ def sweep(
     max_periods: int | None = DEFAULTS["max_periods"],
     method: str = "newton",
     refinements: int = DEFAULTS["refinements"],
+    keep_orbits: bool = False,
     quiet: bool = True,
 ) -> Sweep:
     """Sweep the excitation frequency up and/or down for each force amplitude.
@@ -101,7 +102,7 @@ def sweep(
         Force amplitudes P_a as fractions of the weight Q.
     direction : {"up", "down", "both"}
     model : ContactModel, optional
-    steps_per_period, tol, app_rtol, max_periods, method, refinements
+    steps_per_period, tol, app_rtol, max_periods, method, refinements, keep_orbits
         As in ``steady_states``.
     quiet : bool
         No progress bar on stderr.
@@ -136,7 +137,7 @@ def sweep(
     start = time.perf_counter()
     points = _sweep_lanes(freq, p_a, model, quiet, steps_per_period=steps_per_period, tol=tol,
                           app_rtol=app_rtol, max_periods=max_periods, method=method,
-                          refinements=refinements)
+                          refinements=refinements, keep_orbits=keep_orbits)
     runs = [
         SweepRun(pa_frac=float(frac), direction=d,
                  **points.take(np.arange(i, points.status.size, len(lanes))).columns())
@@ -145,7 +146,7 @@ def sweep(
     settings = {"frequency_hz": grid.tolist(), "pa_frac": fracs.tolist(), "direction": direction,
                 "steps_per_period": steps_per_period, "tol": tol, "app_rtol": app_rtol,
                 "max_periods": max_periods,
-                "method": method, "refinements": refinements}
+                "method": method, "refinements": refinements, "keep_orbits": keep_orbits}
     return Sweep(model=model.as_dict(), settings=settings, runs=runs,
                  elapsed_s=time.perf_counter() - start)
 

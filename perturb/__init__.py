@@ -27,6 +27,7 @@ from ._parameters import (
     PAPER_HYSTERESIS_POINT,
     PAPER_PANEL_FRACTIONS,
     ContactParameters,
+    parameters_with,
 )
 from ._printing import latex_report, series_json, text_report
 from ._response import Branch, Response, frequency_response
@@ -61,6 +62,7 @@ __all__ = [
     "frequency_response",
     "latex_report",
     "paper_names",
+    "parameters_with",
     "series_json",
     "series_symbols",
     "symbols",

@@ -13,6 +13,7 @@ from common import check_keys, check_positive
 __all__ = [
     "ContactParameters",
     "PAPER",
+    "parameters_with",
     "PAPER_BAND_HZ",
     "PAPER_COEXISTENCE",
     "PAPER_CUBE_SIDE_M",
@@ -102,6 +103,30 @@ class ContactParameters:
 
 #: The parameter values adopted in the paper (Section 2).
 PAPER = ContactParameters()
+
+
+def parameters_with(overrides, base: ContactParameters = PAPER) -> ContactParameters:
+    """``base`` (the paper's values) with some values replaced by name.
+
+    This is how a scene's ``[model]`` table and a command's ``--set NAME=VALUE``
+    reach the model; an unknown name is a ValueError listing the valid ones.
+
+    Examples
+    --------
+    >>> parameters_with({"m2": 1.5, "l": 0.5}).m2
+    1.5
+    >>> parameters_with({"mass": 1.0})
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown model parameter 'mass'; the parameters are S, c_n, m2, h_n, l, M, g.
+    """
+    values = base.as_dict()
+    for name, value in dict(overrides).items():
+        if name not in values:
+            raise ValueError(f"unknown model parameter {name!r}; the parameters are "
+                             f"{', '.join(values)}.")
+        values[name] = value
+    return ContactParameters(**values)
 
 #: The natural frequency the paper reports (Section 3) [Hz].
 PAPER_F_N0_HZ = 1485.0

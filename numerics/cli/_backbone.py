@@ -7,6 +7,7 @@ import argparse
 from common import int_at_least, note, output_file, positive_float, write_json
 
 from .._backbone import MAX_POINTS
+from ._model import add_model_option, model_parameters
 
 __all__ = ["add_backbone_parser"]
 
@@ -27,6 +28,7 @@ def add_backbone_parser(sub) -> None:
     parser.add_argument("--json", metavar="FILE", type=output_file,
                         help="also write the curve as JSON (common.load reads it back)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    add_model_option(parser)
     parser.set_defaults(run=_backbone, parser=parser)
 
 
@@ -46,11 +48,15 @@ def _app_range(args: argparse.Namespace) -> tuple[float, float] | None:
 
 def _backbone(args: argparse.Namespace) -> int:
     app_range = _app_range(args)  # before any work
+    parameters = model_parameters(args)
+    from perturb import ContactModel
+
     from .._backbone import exact_backbone  # sympy and scipy only once the input is good
 
     span = "" if app_range is None else f", A_pp {app_range[0]:g}..{app_range[1]:g} m"
     note(f"backbone: {args.points} energy levels{span} ...", quiet=args.quiet)
-    backbone = exact_backbone(app_range_m=app_range, points=args.points)
+    backbone = exact_backbone(app_range_m=app_range, points=args.points,
+                              model=ContactModel(parameters))
     write_json(args.json, backbone.as_dict())  # before printing: a closed pipe loses nothing
     print(backbone)
     return 0

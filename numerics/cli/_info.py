@@ -1,10 +1,12 @@
-"""`python -m numerics info`: the numbers of Eq. 2.6 for the paper's model."""
+"""`python -m numerics info`: the numbers of Eq. 2.6 for the paper's model (or ``--set``'s)."""
 
 from __future__ import annotations
 
 import argparse
 
 from common import GLOSSARY, output_file, write_json
+
+from ._model import add_model_option, model_parameters
 
 __all__ = ["add_info_parser", "format_info"]
 
@@ -20,13 +22,14 @@ def add_info_parser(sub) -> None:
     parser = sub.add_parser("info", help="print the model's static and linear figures")
     parser.add_argument("--json", metavar="FILE", type=output_file,
                         help="also write them as JSON")
+    add_model_option(parser)
     parser.set_defaults(run=_info)
 
 
 def _info(args: argparse.Namespace) -> int:
     from perturb import eq26_numbers
 
-    info = eq26_numbers().as_dict()
+    info = eq26_numbers(model_parameters(args)).as_dict()
     print(format_info(info))
     write_json(args.json, info)
     return 0

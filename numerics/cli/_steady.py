@@ -7,11 +7,12 @@ import argparse
 import numpy as np
 
 from common import int_at_least, nonnegative_float, note, output_file, positive_float
-from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS
+from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
 
 from .._attractors import attractors
 from .._steady import DEFAULTS
 from .._sweep import DIRECTIONS, MAX_STATES, sweep
+from ._model import add_model_option, model_parameters
 
 __all__ = ["add_sweep_parser", "add_attractors_parser"]
 
@@ -29,6 +30,7 @@ def _accuracy_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", metavar="FILE", type=output_file,
                         help="also write the result as JSON")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    add_model_option(parser)
 
 
 def add_sweep_parser(sub) -> None:
@@ -60,9 +62,10 @@ def _sweep(args: argparse.Namespace) -> int:
     if states > MAX_STATES:
         args.parser.error(f"--points x --pa-frac x directions asks for {states} steady states, "
                           f"more than the limit of {MAX_STATES}; split the band")
+    model = ContactModel(model_parameters(args))
     result = sweep(np.linspace(args.fmin, args.fmax, args.points), args.pa_frac,
-                   direction=args.direction, steps_per_period=args.steps, tol=args.tol,
-                   quiet=args.quiet)
+                   direction=args.direction, model=model, steps_per_period=args.steps,
+                   tol=args.tol, quiet=args.quiet)
     if args.json:
         result.to_json(args.json)
     print(result)
@@ -85,12 +88,14 @@ def add_attractors_parser(sub) -> None:
     parser.add_argument("--pa-frac", type=nonnegative_float, required=True, help="P_a / Q")
     parser.add_argument("--fe", type=positive_float, required=True, help="f_e [Hz]")
     _accuracy_options(parser)
-    parser.set_defaults(run=_attractors)
+    parser.set_defaults(run=_attractors, parser=parser)
 
 
 def _attractors(args: argparse.Namespace) -> int:
+    model = ContactModel(model_parameters(args))
     note(f"attractors at {args.fe} Hz, {args.pa_frac} Q ...", quiet=args.quiet)
-    census = attractors(args.fe, args.pa_frac, steps_per_period=args.steps, tol=args.tol)
+    census = attractors(args.fe, args.pa_frac, model=model, steps_per_period=args.steps,
+                        tol=args.tol)
     if args.json:
         census.to_json(args.json)
     print(census)

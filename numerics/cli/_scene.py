@@ -1,0 +1,37 @@
+"""`python -m numerics scene FILE.toml`: run a scene, print its summary, write its outputs."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from common import output_dir, output_file
+
+__all__ = ["add_scene_parser"]
+
+
+def add_scene_parser(sub) -> None:
+    parser = sub.add_parser("scene", help="run a scene: a study written as a TOML file")
+    parser.add_argument("file", metavar="FILE.toml", help="the scene (see docs/scenes.md)")
+    parser.add_argument("--out", type=output_dir, metavar="DIR",
+                        help="folder for the figures and files the scene asks for "
+                             "(default: out/scenes/NAME, NAME the file's stem)")
+    parser.add_argument("--json", metavar="FILE", type=output_file,
+                        help="also write the result as JSON")
+    parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    parser.set_defaults(run=_scene, parser=parser)
+
+
+def _scene(args: argparse.Namespace) -> int:
+    from ..scenes import SceneError, read_scene, run_scene
+
+    try:
+        scene = read_scene(args.file)
+    except SceneError as error:  # one line, no traceback: the file, the key, the value
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    out = Path(args.out) if args.out else Path("out") / "scenes" / Path(args.file).stem
+    run = run_scene(scene, out=out, json=args.json, quiet=args.quiet)
+    print(run)
+    return 0

@@ -1,0 +1,30 @@
+"""Scenes: one study, figure or lesson written as data, and run with only what it needs.
+
+A scene is a TOML file (``read_scene``; nothing in it is evaluated) that names the
+model, its effects (or ``"auto"``), the excitation, the study, the observables,
+the tolerance and the outputs; ``run_scene`` runs it (``python -m numerics scene``).
+See ``docs/scenes.md`` for the keys.
+"""
+
+from ._auto import Selection, observable_change, select_effects
+from ._observables import contact_fraction, harmonic_amplitudes
+from ._result import SceneRun
+from ._run import run_scene
+from ._schema import NAMED_EFFECTS, OBSERVABLES, STUDIES, Scene, SceneError, parse_scene, read_scene
+
+__all__ = [
+    "NAMED_EFFECTS",
+    "OBSERVABLES",
+    "STUDIES",
+    "Scene",
+    "SceneError",
+    "SceneRun",
+    "Selection",
+    "contact_fraction",
+    "harmonic_amplitudes",
+    "observable_change",
+    "parse_scene",
+    "read_scene",
+    "run_scene",
+    "select_effects",
+]

@@ -1,0 +1,215 @@
+"""``effects = "auto"``: the fewest effects that keep a scene's observables within its tolerance.
+
+The full model is run on a sample of the scene's points; then each effect is
+switched off alone (the spring simplified step by step: linear, then Taylor
+polynomials of rising degree) and the change of every observable is measured
+against the full model on the same sample. An effect whose change stays below
+half the tolerance (the changes of several dropped effects add up) is dropped.
+The model without all the dropped effects is then checked against the full
+model at the scene's most sensitive points (the peak of each curve and where
+contact is nearest to being lost, with their neighbours on the scene's grid);
+if it is off by more than the tolerance anywhere, the scene runs the full model
+and says why.
+
+The change of an observable is the largest, over the points, of its difference
+from the full model divided by the curve's scale: the largest App of the curve
+(for App, the extrema and the orbit), the largest harmonic (for the spectrum);
+the fraction of a period out of contact is compared as it is.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from perturb import FULL, ContactModel, Effects, eq26_numbers
+
+from ._observables import observe
+from ._schema import Scene
+from ._studies import run_study
+
+__all__ = ["Selection", "select_effects", "observable_change", "SAMPLE_POINTS", "MARGIN"]
+
+#: Frequencies of the scene's grid on which each effect is measured (evenly picked).
+SAMPLE_POINTS = 24
+#: An effect is dropped when switching it off changes every observable by less than
+#: this fraction of the tolerance: the changes of the dropped effects add up.
+MARGIN = 0.5
+#: Neighbours on each side of a sensitive point that the spot check also runs.
+SPOT_NEIGHBOURS = 2
+
+#: Each effect and the simpler laws tried in its place, simplest first.
+SIMPLIFICATIONS: tuple[tuple[str, tuple[tuple[str, dict], ...]], ...] = (
+    ("contact loss", (("switched off", {"contact_loss": False}),)),
+    ("power-law damping", (("linearised at y0", {"damping": "linear"}),)),
+    ("power-law spring", (("linearised at y0", {"spring": "linear"}),
+                          ("Taylor, degree 2", {"spring": "taylor", "taylor_degree": 2}),
+                          ("Taylor, degree 3", {"spring": "taylor", "taylor_degree": 3}),
+                          ("Taylor, degree 4", {"spring": "taylor", "taylor_degree": 4}))),
+    ("gravity preload", (("switched off", {"gravity": False}),)),
+)
+
+
+@dataclass
+class Selection:
+    """The effects chosen, the table that shows why, and the route."""
+
+    effects: Effects
+    rows: list[dict]
+    note: str
+    route: str
+
+
+def sample_grid(grid: np.ndarray, points: int = SAMPLE_POINTS) -> np.ndarray:
+    """``points`` frequencies of ``grid``, evenly spread, its ends included."""
+    if grid.size <= points:
+        return grid
+    return grid[np.unique(np.round(np.linspace(0, grid.size - 1, points)).astype(int))]
+
+
+def _evaluate(scene: Scene, effects: Effects, grid: np.ndarray) -> tuple[list[dict], float]:
+    """The curves of the scene's study on ``grid`` with ``effects``, and the seconds it took
+    (the model's kernels loaded, or compiled, before the clock starts)."""
+    from .._codegen import compiled_kernels
+
+    model = ContactModel(scene.parameters, effects)
+    compiled_kernels(model)
+    eq26_numbers(model.parameters)
+    start = time.perf_counter()
+    curves = observe(scene, run_study(scene, model, grid).outcomes, model)
+    return curves, time.perf_counter() - start
+
+
+def _scale(curve: dict) -> float:
+    """The curve's length scale: its largest App (or the span of its orbit)."""
+    for key in ("app_m", "y_m"):
+        if key in curve:
+            values = np.abs(np.ravel(curve[key])) if key == "app_m" else np.ptp(curve[key])
+            scale = np.nanmax(values) if np.size(values) else 0.0
+            if np.isfinite(scale) and scale > 0:
+                return float(scale)
+    return 1.0
+
+
+def _difference(a, b, scale: float) -> float:
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    if a.shape != b.shape:
+        return np.inf
+    with np.errstate(invalid="ignore"):
+        change = np.abs(a - b) / scale
+    both_nan = np.isnan(a) & np.isnan(b)
+    change = np.where(both_nan, 0.0, change)
+    return float(np.max(np.where(np.isnan(change), np.inf, change), initial=0.0))
+
+
+def _spectrum_change(a: list, b: list) -> float:
+    worst = 0.0
+    for x, y in zip(a, b):
+        n = min(len(x), len(y))
+        scale = max(np.max(x[1:n], initial=0.0), 1e-300)
+        worst = max(worst, _difference(x[1:n], y[1:n], scale))
+    return worst
+
+
+def observable_change(observables, full: list[dict], other: list[dict]) -> dict[str, float]:
+    """Largest change of each observable from ``full`` to ``other`` (see the module's doc)."""
+    if len(full) != len(other):  # e.g. a census that finds other attractors
+        return {name: np.inf for name in observables}
+    change = {}
+    for name in observables:
+        worst = 0.0
+        for a, b in zip(full, other):
+            worst = max(worst, _curve_change(name, a, b))
+        change[name] = worst
+    return change
+
+
+def _curve_change(name: str, a: dict, b: dict) -> float:
+    scale = _scale(a)
+    if name == "app":
+        return _difference(a["app_m"], b["app_m"], scale)
+    if name == "extrema":
+        return max(_difference(a["ymin_m"], b["ymin_m"], scale),
+                   _difference(a["ymax_m"], b["ymax_m"], scale))
+    if name == "contact_fraction":
+        return _difference(a["contact_fraction"], b["contact_fraction"], 1.0)
+    if name == "spectrum":
+        spectra = (a["spectrum_m"], b["spectrum_m"])
+        if isinstance(spectra[0], np.ndarray) and spectra[0].ndim == 1:
+            spectra = ([spectra[0]], [spectra[1]])
+        return _spectrum_change(*spectra)
+    if name in ("time_history", "phase_portrait", "hysteresis"):
+        return _difference(a["y_m"], b["y_m"], float(np.ptp(a["y_m"])) or 1.0)
+    return 0.0
+
+
+def select_effects(scene: Scene) -> Selection:
+    """Measure what each effect contributes on a sample of the scene, and choose."""
+    sample = sample_grid(scene.frequency_hz)
+    full, full_s = _evaluate(scene, FULL, sample)
+    rows, dropped = [], []
+    for effect, laws in SIMPLIFICATIONS:
+        for law, change in laws:
+            label = f"{effect}: {law}"
+            try:
+                curves, seconds = _evaluate(scene, replace(FULL, **change), sample)
+            except ValueError as error:  # e.g. no contact loss with a non-polynomial law
+                rows.append({"effect": label, "change": {}, "seconds": None,
+                             "verdict": f"kept (cannot be switched off alone: {error})"})
+                break
+            measured = observable_change(scene.observables, full, curves)
+            small = max(measured.values(), default=0.0) <= MARGIN * scene.tolerance
+            rows.append({"effect": label, "change": measured, "seconds": seconds,
+                         "verdict": "dropped" if small else "kept"})
+            if small:
+                dropped.append(change)
+                break
+    chosen = FULL
+    for change in dropped:
+        chosen = replace(chosen, **change)
+    where = f"on {sample.size} of the scene's {scene.frequency_hz.size} frequencies"
+    if chosen == FULL:
+        return Selection(FULL, rows, f"every effect matters {where}: the full model ran "
+                                     f"(full model {full_s:.3g} s there)", "full model")
+    return _spot_check(scene, chosen, rows, full, sample, full_s, where)
+
+
+def _spot_check(scene, chosen, rows, full, sample, full_s, where) -> Selection:
+    try:
+        ContactModel(scene.parameters, chosen)
+    except ValueError as error:
+        return Selection(FULL, rows, f"the effects dropped one by one cannot be dropped "
+                                     f"together ({error}): the full model ran", "full model")
+    _, chosen_s = _evaluate(scene, chosen, sample)
+    spots = spot_grid(scene.frequency_hz, sample, full)
+    full_spot, _ = _evaluate(scene, FULL, spots)
+    chosen_spot, _ = _evaluate(scene, chosen, spots)
+    worst = observable_change(scene.observables, full_spot, chosen_spot)
+    largest = max(worst.values(), default=0.0)
+    times = (f"time {where}: full model {full_s:.3g} s, chosen model {chosen_s:.3g} s "
+             f"({full_s / max(chosen_s, 1e-9):.2g}x)")
+    spot = (f"spot check at {spots.size} sensitive frequencies "
+            f"({', '.join(f'{f:g}' for f in spots[:8])}{' ...' if spots.size > 8 else ''} Hz): "
+            f"largest change {largest:.2e}, tolerance {scene.tolerance:g}")
+    if largest > scene.tolerance:
+        return Selection(FULL, rows, f"{spot}: above the tolerance, so the full model ran; "
+                                     f"{times}", "full model")
+    return Selection(chosen, rows, f"ran {chosen.describe()}; {spot}; {times}", "reduced model")
+
+
+def spot_grid(grid: np.ndarray, sample: np.ndarray, full: list[dict]) -> np.ndarray:
+    """The scene's frequencies next to each curve's peak and to its least y_min."""
+    picks = set()
+    for curve in full:
+        freq = np.atleast_1d(np.asarray(curve.get("frequency_hz", sample), dtype=float))
+        for key, pick in (("app_m", np.nanargmax), ("ymin_m", np.nanargmin)):
+            values = np.atleast_1d(np.asarray(curve.get(key, []), dtype=float))
+            if values.size == freq.size and np.isfinite(values).any():
+                picks.add(float(freq[pick(values)]))
+    index = set()
+    for f in picks:
+        i = int(np.argmin(np.abs(grid - f)))
+        index.update(range(max(i - SPOT_NEIGHBOURS, 0), min(i + SPOT_NEIGHBOURS + 1, grid.size)))
+    return grid[sorted(index)] if index else sample[:1]

@@ -1,0 +1,202 @@
+"""What a scene writes: its figures, its animation, its printed text and its JSON.
+
+Every file goes into the output folder, under the plain file name the scene gives
+(the scene cannot name a path elsewhere). matplotlib is imported here only.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ._schema import Scene
+
+__all__ = ["write_outputs"]
+
+
+def write_outputs(scene: Scene, run, out: Path) -> list[str]:
+    """Write what ``scene`` asks for into ``out``; the names written, in order."""
+    out.mkdir(parents=True, exist_ok=True)
+    files = []
+    for kind, name in scene.figures.items():
+        files += _FIGURES[kind](scene, run, out, name)
+    if scene.animation:
+        files.append(_animate(scene, run, out))
+    if scene.text:
+        (out / scene.text).write_text(run.text, encoding="utf-8")
+        files.append(scene.text)
+    return files
+
+
+def _numbered(out: Path, name: str, count: int) -> list[Path]:
+    """``name`` for one figure; name-1, name-2, ... for several."""
+    if count == 1:
+        return [out / name]
+    stem, suffix = Path(name).stem, Path(name).suffix
+    return [out / f"{stem}-{i}{suffix}" for i in range(1, count + 1)]
+
+
+def _each(draw, items, out: Path, name: str) -> list[str]:
+    paths = _numbered(out, name, len(items))
+    for item, path in zip(items, paths):
+        draw(item, path)
+    return [p.name for p in paths]
+
+
+def _app(scene, run, out, name):
+    if scene.study == "sweep":
+        from ..plots import plot_app
+
+        return _each(plot_app, run.outcomes, out, name)
+    from ..plots._curves import plot_curves
+
+    plot_curves(run.observables, out / name, title=scene.title)
+    return [name]
+
+
+def _extrema(scene, run, out, name):
+    from ..plots import plot_extrema
+
+    return _each(plot_extrema, run.outcomes, out, name)
+
+
+def _spectrum(scene, run, out, name):
+    from ..plots import plot_spectrum
+
+    curve = run.observables[0]
+    spectra = curve["spectrum_m"]
+    if scene.study == "sweep":  # harmonics of f_e against f_e, over the period-1 points
+        period_one = [np.asarray(s)[: 17] for s in spectra]
+        width = min((s.size for s in period_one if s.size), default=0)
+        rows = np.array([s[:width] if s.size >= width else np.full(width, np.nan)
+                         for s in period_one])
+        plot_spectrum(rows, out / name, frequency_hz=np.asarray(curve["frequency_hz"]),
+                      title=f"{scene.title}: {curve['label']}")
+    else:
+        plot_spectrum(np.asarray(spectra), out / name, title=f"{scene.title}: {curve['label']}")
+    return [name]
+
+
+def _contact_fraction(scene, run, out, name):
+    from ..plots import plot_contact_fraction
+
+    curves = run.observables
+    plot_contact_fraction(np.asarray(curves[0]["frequency_hz"]),
+                          np.array([c["contact_fraction"] for c in curves]), out / name,
+                          labels=[c["label"] for c in curves], title=scene.title)
+    return [name]
+
+
+def _phase_portrait(scene, run, out, name):
+    from ..plots import plot_phase_portrait
+
+    curves = [c for c in run.observables if "y_m" in c]
+    plot_phase_portrait([c["y_m"] for c in curves], [c["v_m_s"] for c in curves], out / name,
+                        y0_m=run.model.get("y0_m"),
+                        title=scene.title)
+    return [name]
+
+
+def _time_history(scene, run, out, name):
+    from ..plots import plot_time_history
+
+    curve = run.observables[0]
+    plot_time_history(curve["time_s"], curve["y_m"], out / name, title=curve["label"])
+    return [name]
+
+
+def _census(scene, run, out, name):
+    from ..plots import plot_census
+
+    return _each(plot_census, run.outcomes, out, name)
+
+
+def _hysteresis(scene, run, out, name):
+    from ..plots import plot_hysteresis
+
+    return _each(plot_hysteresis, run.outcomes, out, name)
+
+
+def _backbone(scene, run, out, name):
+    from ..plots import plot_backbone
+
+    return _each(plot_backbone, run.outcomes[:1], out, name)
+
+
+def _natural_frequency(scene, run, out, name):
+    from ..plots import plot_natural_frequency
+
+    return _each(plot_natural_frequency, run.outcomes, out, name)
+
+
+def _comparison(scene, run, out, name):
+    from ..plots import plot_comparison
+
+    return _each(plot_comparison, run.outcomes, out, name)
+
+
+_FIGURES = {
+    "app": _app,
+    "extrema": _extrema,
+    "spectrum": _spectrum,
+    "contact_fraction": _contact_fraction,
+    "phase_portrait": _phase_portrait,
+    "time_history": _time_history,
+    "census": _census,
+    "hysteresis": _hysteresis,
+    "backbone": _backbone,
+    "natural_frequency": _natural_frequency,
+    "comparison": _comparison,
+}
+
+
+def _animate(scene: Scene, run, out: Path) -> str:
+    from ..plots import animate_slider, animate_sweep
+
+    animation = scene.animation
+    name = f"{Path(scene.source).stem}-{animation['kind']}.gif"
+    runs = run.outcomes[0].runs
+    if animation["kind"] == "sweep":
+        animate_sweep(out / name, frequency_hz=[r.frequency_hz for r in runs],
+                      app_m=[r.app_m for r in runs], labels=[f"{r.pa_frac:g} Q {r.direction}"
+                                                             for r in runs],
+                      frames=animation["frames"], fps=animation["fps"], title=scene.title)
+        return name
+    first = runs[0]
+    i = _animated_point(first, animation.get("frequency_hz"))
+    history = _orbit_history(scene, run, first, i)
+    animate_slider(out / name, time_s=history["time_s"], y_m=history["y_m"],
+                   y0_m=history["y0_m"], curve_hz=first.frequency_hz, curve_app_m=first.app_m,
+                   point_hz=float(first.frequency_hz[i]), point_app_m=float(first.app_m[i]),
+                   frames=animation["frames"], fps=animation["fps"], title=scene.title)
+    return name
+
+
+def _animated_point(sweep_run, frequency_hz) -> int:
+    """The point at ``frequency_hz``, or where contact is nearest to lost (least y_min)."""
+    if frequency_hz is not None:
+        return int(np.argmin(np.abs(sweep_run.frequency_hz - frequency_hz)))
+    ymin = np.where(sweep_run.settled, sweep_run.ymin_m, np.inf)
+    return int(np.argmin(ymin))
+
+
+#: Periods of the orbit the slider animation shows.
+_ANIMATED_PERIODS = 3
+
+
+def _orbit_history(scene, run, sweep_run, i: int) -> dict:
+    """y after every step of a few periods of the orbit at point ``i``, simulated again."""
+    from perturb import ContactModel, Effects
+
+    from .._simulate import simulate
+
+    model = ContactModel(scene.parameters, Effects(**run.effects))
+    steps = int(sweep_run.steps_used[i])
+    periods = _ANIMATED_PERIODS * int(max(sweep_run.period[i], 1))
+    sim = simulate(sweep_run.frequency_hz[i], sweep_run.p_a_n[i], periods=periods,
+                   steps_per_period=steps, model=model, y_init_m=sweep_run.y_start_m[i],
+                   v_init_m_s=sweep_run.v_start_m_s[i], record=("history",),
+                   record_periods=periods)
+    return {"time_s": sim.history_phase / sweep_run.frequency_hz[i], "y_m": sim.history_y_m[0],
+            "y0_m": run.model["y0_m"]}

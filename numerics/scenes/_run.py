@@ -1,0 +1,91 @@
+"""Running a scene: its model with the effects it names (or chooses), its study, its outputs."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from common import note
+from perturb import FULL
+
+from ._auto import select_effects
+from ._observables import observe
+from ._result import SceneRun
+from ._schema import Scene, read_scene
+from ._studies import SERIES_STUDIES, model_of, run_study
+
+__all__ = ["run_scene"]
+
+
+def run_scene(scene: Scene | str | Path, *, out: str | Path | None = None, json: str | Path |
+              None = None, quiet: bool = True) -> SceneRun:
+    """Run a scene (a ``Scene`` or the path of its TOML file) and write what it asks for.
+
+    Parameters
+    ----------
+    scene : Scene or path
+    out : path, optional
+        Folder for the scene's figures, animation, text and JSON (none written without it).
+    json : path, optional
+        Also write the result there (as ``--json`` does).
+    quiet : bool
+        No progress on stderr.
+
+    Returns
+    -------
+    SceneRun
+        The study's results, as the Python API gives them, with the observables, the
+        effects and recorder it ran and, with ``effects = "auto"``, the table of effects.
+
+    Examples
+    --------
+    >>> from numerics.scenes import parse_scene
+    >>> scene = parse_scene('''
+    ... observables = ["app", "contact_fraction"]
+    ... [excitation]
+    ... pa_frac = 0.05
+    ... frequency_hz = [1300.0, 1400.0]
+    ... [study]
+    ... kind = "sweep"
+    ... direction = "up"
+    ... ''')
+    >>> run = run_scene(scene)
+    >>> curve = run.observables[0]
+    >>> [round(float(a) * 1e9, 1) for a in curve["app_m"]], curve["contact_fraction"].tolist()
+    ([48.1, 106.1], [0.0, 0.0])
+    >>> run.route, run.recorder
+    ('full model', 'steady states: extrema of one response period, and y after every step of it')
+    """
+    scene = scene if isinstance(scene, Scene) else read_scene(scene)
+    start = time.perf_counter()
+    rows, selection_note = [], ""
+    if scene.auto:
+        note(f"{scene.title}: measuring what each effect contributes ...", quiet=quiet)
+        selection = select_effects(scene)
+        effects, route = selection.effects, selection.route
+        rows, selection_note = selection.rows, selection.note
+    else:
+        effects = scene.effects
+        route = "full model" if effects == FULL else "reduced model"
+    model = model_of(scene, effects)
+    if scene.study in SERIES_STUDIES:
+        route = "series"
+    note(f"{scene.title}: {scene.study} study, {model.effects.describe()} ...", quiet=quiet)
+    study = run_study(scene, model, quiet=quiet)
+    run = SceneRun(title=scene.title, study=scene.study,
+                   effects=model.effects.__dict__.copy(), recorder=study.recorder, route=route,
+                   outcomes=study.outcomes, observables=observe(scene, study.outcomes, model),
+                   selection=rows, selection_note=selection_note, text=study.text, files=[],
+                   model=model.as_dict(), settings=scene.as_dict(),
+                   elapsed_s=time.perf_counter() - start)
+    if out is not None:
+        from ._output import write_outputs
+
+        out = Path(out)
+        run.files = write_outputs(scene, run, out)
+        if scene.json:
+            run.to_json(out / scene.json)
+            run.files.append(scene.json)
+    if json is not None:
+        run.to_json(json)
+    return run

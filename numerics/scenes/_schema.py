@@ -1,0 +1,425 @@
+"""A scene file: one study written as data (TOML, read with ``tomllib``, never evaluated).
+
+Every key is checked here against the tables below, and every error is one
+``SceneError`` that names the file, the key, its line where it can be found, and
+the value. No string of a scene reaches ``eval``, ``exec``, ``sympify`` or
+``lambdify``: names are looked up in fixed tables, numbers are TOML numbers.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from perturb import EQ_2_6, FULL, LINEAR, ContactParameters, Effects, parameters_with
+
+__all__ = ["Scene", "SceneError", "read_scene", "parse_scene", "STUDIES", "OBSERVABLES",
+           "NAMED_EFFECTS"]
+
+#: What each observable is (the scene's ``observables`` list names them).
+OBSERVABLES = {
+    "app": "peak-to-peak amplitude A_pp of the steady response",
+    "extrema": "every local maximum and minimum of y over the response period",
+    "time_history": "y and v after every RK4 step",
+    "spectrum": "amplitudes of the harmonics of one response period",
+    "phase_portrait": "v against y over the response period",
+    "hysteresis": "the contact pressure against y over one period (Fig. 5)",
+    "contact_fraction": "fraction of each period spent out of contact (y <= 0)",
+}
+
+#: Effects by name: ``effects = "full"`` and so on, or a table of ``Effects`` fields.
+NAMED_EFFECTS = {"full": FULL, "eq26": EQ_2_6, "linear": LINEAR}
+
+
+@dataclass(frozen=True)
+class Option:
+    """One key of a [study] table: its kind, default and range."""
+
+    kind: str  # "int", "float", "bool", "choice", "steps", "ints"
+    default: object
+    minimum: float | None = None
+    maximum: float | None = None
+    choices: tuple = ()
+
+
+def _steps(default="auto") -> Option:
+    return Option("steps", default, 4, 2**16)
+
+
+@dataclass(frozen=True)
+class Study:
+    """A kind of study: its options, the observables it can give, its default figures."""
+
+    options: dict[str, Option]
+    observables: tuple[str, ...]
+    default_observables: tuple[str, ...]
+    figures: tuple[str, ...]
+    needs: tuple[str, ...] = ()  # excitation keys it needs: "pa_frac", "frequency_hz"
+    auto: bool = False  # whether effects = "auto" applies
+
+
+_STEADY = ("app", "extrema", "spectrum", "contact_fraction")
+#: The studies a scene can run, by ``[study] kind``.
+STUDIES: dict[str, Study] = {
+    "sweep": Study(
+        {"direction": Option("choice", "both", choices=("up", "down", "both")),
+         "steps_per_period": _steps()},
+        _STEADY, ("app", "extrema"), ("app", "extrema", "spectrum", "contact_fraction"),
+        needs=("pa_frac", "frequency_hz"), auto=True),
+    "attractors": Study(
+        {"steps_per_period": _steps()},
+        _STEADY + ("phase_portrait",), ("app",), ("census", "phase_portrait", "spectrum"),
+        needs=("pa_frac", "frequency_hz"), auto=True),
+    "time_history": Study(
+        {"periods": Option("int", 200, 1, 10**6), "record_periods": Option("int", 4, 1, 10**4),
+         "steps_per_period": Option("int", 256, 4, 2**16)},
+        _STEADY + ("time_history", "phase_portrait", "hysteresis"),
+        ("time_history", "app"), ("time_history", "phase_portrait", "spectrum", "hysteresis"),
+        needs=("pa_frac", "frequency_hz"), auto=True),
+    "hysteresis": Study(
+        {"periods": Option("int", 400, 1, 10**6), "steps_per_period": Option("int", 512, 4, 2**16)},
+        ("hysteresis", "app"), ("hysteresis",), ("hysteresis",),
+        needs=("pa_frac", "frequency_hz")),
+    "analytic_response": Study(
+        {"order": Option("int", 6, 0, 20)}, ("app", "extrema"), ("app",), ("app",),
+        needs=("pa_frac", "frequency_hz")),
+    "backbone": Study(
+        {"order": Option("int", 8, 1, 40), "points": Option("int", 200, 2, 10**5)},
+        ("app",), ("app",), ("backbone",)),
+    "derivation": Study({"order": Option("int", 4, 0, 12)}, (), (), ()),
+    "natural_frequency": Study({"points": Option("int", 100, 2, 10**5)}, (), (),
+                               ("natural_frequency",)),
+    "comparison": Study(
+        {"orders": Option("ints", (2, 4, 6, 8), 0, 20),
+         "steps_per_period": Option("int", 128, 4, 2**16)},
+        ("app",), ("app",), ("comparison",), needs=("pa_frac", "frequency_hz")),
+}
+
+_TOP = ("title", "description", "effects", "observables", "tolerance", "model", "excitation",
+        "study", "output")
+_EXCITATION = ("pa_frac", "frequency_hz")
+_RANGE = ("start", "stop", "count")
+_OUTPUT = ("json", "figures", "animation", "text")
+_ANIMATION = ("kind", "frames", "fps", "frequency_hz")
+#: The most frequencies one scene may list or count.
+MAX_FREQUENCIES = 100_000
+DEFAULT_TOLERANCE = 5e-3
+
+
+class SceneError(ValueError):
+    """A scene file that cannot be run: the file, the key (and line), the value."""
+
+    def __init__(self, source: str, key: str, message: str, line: int | None = None) -> None:
+        where = f"{source}:{line}" if line else source
+        super().__init__(f"{where}: `{key}` {message}" if key else f"{where}: {message}")
+        self.source, self.key, self.line = source, key, line
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A checked scene: everything a run needs, with every default filled in."""
+
+    source: str
+    title: str
+    description: str
+    parameters: ContactParameters
+    effects: Effects | None  # None: "auto"
+    pa_frac: tuple[float, ...]
+    frequency_hz: np.ndarray
+    study: str
+    options: dict
+    observables: tuple[str, ...]
+    tolerance: float
+    figures: dict[str, str]  # figure kind -> file name
+    json: str | None
+    text: str | None
+    animation: dict | None
+    overrides: dict = field(default_factory=dict)
+
+    @property
+    def auto(self) -> bool:
+        return self.effects is None
+
+    def as_dict(self) -> dict:
+        """The scene as checked, defaults filled in (the ``settings`` of its result)."""
+        return {"source": self.source, "title": self.title, "model_overrides": self.overrides,
+                "effects": "auto" if self.auto else self.effects.__dict__.copy(),
+                "pa_frac": list(self.pa_frac), "frequency_hz": self.frequency_hz.tolist(),
+                "study": self.study, "options": self.options,
+                "observables": list(self.observables), "tolerance": self.tolerance,
+                "figures": self.figures, "json": self.json, "text": self.text,
+                "animation": self.animation}
+
+
+def read_scene(path: str | Path) -> Scene:
+    """Read and check a scene file; a SceneError names what is wrong, and where."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise SceneError(str(path), "", f"cannot be read: {error}") from None
+    return parse_scene(text, str(path))
+
+
+def parse_scene(text: str, source: str = "<scene>") -> Scene:
+    """Check the TOML ``text`` of a scene (``source`` names it in errors)."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        line = _decode_line(error)
+        raise SceneError(source, "", f"is not valid TOML: {error}", line) from None
+    return _Reader(text, source).scene(data)
+
+
+def _decode_line(error: tomllib.TOMLDecodeError) -> int | None:
+    match = re.search(r"line (\d+)", str(error))
+    return int(match.group(1)) if match else None
+
+
+class _Reader:
+    """Checks one scene's data, key by key, and knows where each key was written."""
+
+    def __init__(self, text: str, source: str) -> None:
+        self.lines = text.splitlines()
+        self.source = source
+
+    def line_of(self, key: str) -> int | None:
+        """The line where ``key`` ("table.name") is set, found by a plain scan."""
+        table, _, name = key.rpartition(".")
+        table = table.split("[")[0]
+        current = ""
+        for number, line in enumerate(self.lines, 1):
+            stripped = line.strip()
+            header = re.fullmatch(r"\[\s*([A-Za-z0-9_.]+)\s*\]", stripped)
+            if header:
+                current = header.group(1)
+                if current == key:
+                    return number
+                continue
+            if current == table and re.match(rf"{re.escape(name.split('[')[0])}\s*=", stripped):
+                return number
+            if not table and current == "" and re.match(rf"{re.escape(name)}\s*=", stripped):
+                return number
+        return None
+
+    def fail(self, key: str, message: str):
+        raise SceneError(self.source, key, message, self.line_of(key))
+
+    def mapping(self, key: str, value, allowed) -> dict:
+        if not isinstance(value, dict):
+            self.fail(key, f"must be a table, got {value!r}")
+        for name in value:
+            if name not in allowed:
+                self.fail(f"{key}.{name}" if key else name,
+                          f"is not a key of a scene{f' [{key}]' if key else ''}; the keys are "
+                          f"{', '.join(allowed)}")
+        return value
+
+    def number(self, key: str, value, *, minimum=None, maximum=None, integer=False,
+               strict_minimum=False):
+        kind = int if integer else (int, float)
+        if isinstance(value, bool) or not isinstance(value, kind):
+            self.fail(key, f"must be {'an integer' if integer else 'a number'}, got {value!r}")
+        if not math.isfinite(value):
+            self.fail(key, f"must be finite, got {value!r}")
+        if minimum is not None and (value <= minimum if strict_minimum else value < minimum):
+            self.fail(key, f"must be {'>' if strict_minimum else '>='} {minimum}, got {value!r}")
+        if maximum is not None and value > maximum:
+            self.fail(key, f"must be <= {maximum}, got {value!r}")
+        return value if integer else float(value)
+
+    def string(self, key: str, value, choices=None) -> str:
+        if not isinstance(value, str):
+            self.fail(key, f"must be a string, got {value!r}")
+        if choices is not None and value not in choices:
+            self.fail(key, f"must be one of {', '.join(map(str, choices))}; got {value!r}")
+        return value
+
+    def file_name(self, key: str, value) -> str:
+        """A plain file name, written into the output folder (never a path elsewhere)."""
+        name = self.string(key, value)
+        if not re.fullmatch(r"[A-Za-z0-9_.\-]+", name) or name.startswith("."):
+            self.fail(key, f"must be a plain file name (letters, digits, '_', '-', '.'; "
+                           f"written into the output folder), got {value!r}")
+        return name
+
+    # --- the tables -----------------------------------------------------------------------
+
+    def scene(self, data: dict) -> Scene:
+        self.mapping("", data, _TOP)
+        if "study" not in data:
+            self.fail("study", f"is missing: a scene names its study, one of "
+                               f"{', '.join(STUDIES)}")
+        study_table = self.mapping("study", data["study"], ("kind",) + _all_options())
+        kind = self.string("study.kind", study_table.get("kind"), tuple(STUDIES)) \
+            if "kind" in study_table else self.fail("study.kind", "is missing")
+        study = STUDIES[kind]
+        options = self.options(kind, study, study_table)
+        overrides = self.model(data.get("model", {}))
+        parameters = self.parameters(overrides)
+        effects = self.effects(data.get("effects", "full"), study, kind)
+        pa_frac, frequency = self.excitation(data.get("excitation"), study, kind)
+        observables = self.observables(data.get("observables"), study, kind)
+        tolerance = self.number("tolerance", data.get("tolerance", DEFAULT_TOLERANCE),
+                                minimum=0, maximum=0.5, strict_minimum=True)
+        output = self.mapping("output", data.get("output", {}), _OUTPUT)
+        return Scene(
+            source=self.source,
+            title=self.string("title", data.get("title", Path(self.source).stem)),
+            description=self.string("description", data.get("description", "")),
+            parameters=parameters, effects=effects, pa_frac=pa_frac, frequency_hz=frequency,
+            study=kind, options=options, observables=observables, tolerance=tolerance,
+            figures=self.figures(output.get("figures", []), study, kind),
+            json=self.file_name("output.json", output["json"]) if "json" in output else None,
+            text=self.file_name("output.text", output["text"]) if "text" in output else None,
+            animation=self.animation(output.get("animation"), kind),
+            overrides=overrides,
+        )
+
+    def options(self, kind: str, study: Study, table: dict) -> dict:
+        options = {}
+        for name in table:
+            if name != "kind" and name not in study.options:
+                self.fail(f"study.{name}", f"is not an option of a {kind} study; its options "
+                                           f"are {', '.join(study.options) or 'none'}")
+        for name, option in study.options.items():
+            key, value = f"study.{name}", table.get(name, option.default)
+            options[name] = self.option(key, value, option)
+        return options
+
+    def option(self, key: str, value, option: Option):
+        if option.kind == "choice":
+            return self.string(key, value, option.choices)
+        if option.kind == "bool":
+            if not isinstance(value, bool):
+                self.fail(key, f"must be true or false, got {value!r}")
+            return value
+        if option.kind == "steps" and value == "auto":
+            return value
+        if option.kind == "ints":
+            if not isinstance(value, (list, tuple)) or not value:
+                self.fail(key, f"must be a non-empty list of integers, got {value!r}")
+            return tuple(self.number(f"{key}[{i}]", v, minimum=option.minimum,
+                                     maximum=option.maximum, integer=True)
+                         for i, v in enumerate(value))
+        if option.kind == "steps" and not isinstance(value, int):
+            self.fail(key, f"must be \"auto\" or an integer >= {option.minimum}, got {value!r}")
+        return self.number(key, value, minimum=option.minimum, maximum=option.maximum,
+                           integer=option.kind in ("int", "steps"))
+
+    def model(self, table) -> dict:
+        self.mapping("model", table, ContactParameters.names())
+        return {name: self.number(f"model.{name}", value) for name, value in table.items()}
+
+    def parameters(self, overrides: dict) -> ContactParameters:
+        try:
+            return parameters_with(overrides)
+        except ValueError as error:
+            name = next((n for n in overrides if f"`{n}`" in str(error)), "")
+            self.fail(f"model.{name}" if name else "model", str(error).rstrip(".") + ".")
+
+    def effects(self, value, study: Study, kind: str) -> Effects | None:
+        if value == "auto":
+            if not study.auto:
+                self.fail("effects", f"= \"auto\" applies to the studies "
+                                     f"{', '.join(k for k, s in STUDIES.items() if s.auto)}, "
+                                     f"not to {kind}")
+            return None
+        if isinstance(value, str):
+            self.string("effects", value, tuple(NAMED_EFFECTS) + ("auto",))
+            return NAMED_EFFECTS[value]
+        table = self.mapping("effects", value, Effects.names())
+        try:
+            return Effects(**table)
+        except ValueError as error:
+            name = next((n for n in table if f"`{n}`" in str(error)), "")
+            self.fail(f"effects.{name}" if name else "effects", str(error))
+
+    def excitation(self, table, study: Study, kind: str) -> tuple[tuple, np.ndarray]:
+        if table is None:
+            if study.needs:
+                self.fail("excitation", f"is missing: a {kind} study needs "
+                                        f"{' and '.join(study.needs)}")
+            return (), np.empty(0)
+        self.mapping("excitation", table, _EXCITATION)
+        for name in study.needs:
+            if name not in table:
+                self.fail(f"excitation.{name}", f"is missing: a {kind} study needs it")
+        fracs = table.get("pa_frac", [])
+        fracs = fracs if isinstance(fracs, list) else [fracs]
+        pa_frac = tuple(self.number(f"excitation.pa_frac[{i}]", f, minimum=0)
+                        for i, f in enumerate(fracs))
+        if len(set(pa_frac)) != len(pa_frac):
+            self.fail("excitation.pa_frac", f"must not repeat an amplitude, got {list(pa_frac)}")
+        return pa_frac, self.frequencies(table.get("frequency_hz", []))
+
+    def frequencies(self, value) -> np.ndarray:
+        key = "excitation.frequency_hz"
+        if isinstance(value, dict):
+            self.mapping(key, value, _RANGE)
+            for name in _RANGE:
+                if name not in value:
+                    self.fail(f"{key}.{name}", "is missing: a range has start, stop and count")
+            start = self.number(f"{key}.start", value["start"], minimum=0, strict_minimum=True)
+            stop = self.number(f"{key}.stop", value["stop"], minimum=0, strict_minimum=True)
+            count = self.number(f"{key}.count", value["count"], minimum=1,
+                                maximum=MAX_FREQUENCIES, integer=True)
+            if count > 1 and not start < stop:
+                self.fail(f"{key}.stop", f"must be above start={start:g}, got {stop!r}")
+            return np.linspace(start, stop, count)
+        values = value if isinstance(value, list) else [value]
+        if len(values) > MAX_FREQUENCIES:
+            self.fail(key, f"lists {len(values)} frequencies, more than {MAX_FREQUENCIES}")
+        grid = np.array([self.number(f"{key}[{i}]", f, minimum=0, strict_minimum=True)
+                         for i, f in enumerate(values)], dtype=float)
+        if grid.size > 1 and np.any(np.diff(grid) <= 0):
+            self.fail(key, f"must be strictly increasing, got {values!r}")
+        return grid
+
+    def observables(self, value, study: Study, kind: str) -> tuple[str, ...]:
+        if value is None:
+            return study.default_observables
+        if not isinstance(value, list):
+            self.fail("observables", f"must be a list of names, got {value!r}")
+        for i, name in enumerate(value):
+            self.string(f"observables[{i}]", name, tuple(OBSERVABLES))
+            if name not in study.observables:
+                self.fail("observables", f"a {kind} study gives {', '.join(study.observables) or 'none'}; "
+                                         f"got {name!r}")
+        return tuple(dict.fromkeys(value))
+
+    def figures(self, value, study: Study, kind: str) -> dict[str, str]:
+        if isinstance(value, list):
+            names = {self.string(f"output.figures[{i}]", v, study.figures): f"{v}.png"
+                     for i, v in enumerate(value)}
+            return {k: v.replace("_", "-") for k, v in names.items()}
+        table = self.mapping("output.figures", value, study.figures)
+        return {name: self.file_name(f"output.figures.{name}", file)
+                for name, file in table.items()}
+
+    def animation(self, value, kind: str) -> dict | None:
+        if value is None or value is False:
+            return None
+        if kind not in ("sweep",):
+            self.fail("output.animation", f"is drawn from a sweep scene, not from a {kind} study")
+        table = {} if value is True else self.mapping("output.animation", value, _ANIMATION)
+        animation = {"kind": self.string("output.animation.kind", table.get("kind", "sweep"),
+                                         ("sweep", "slider")),
+                     "frames": self.number("output.animation.frames", table.get("frames", 60),
+                                           minimum=2, maximum=2000, integer=True),
+                     "fps": self.number("output.animation.fps", table.get("fps", 20),
+                                        minimum=1, maximum=100, integer=True)}
+        if "frequency_hz" in table:
+            animation["frequency_hz"] = self.number("output.animation.frequency_hz",
+                                                    table["frequency_hz"], minimum=0,
+                                                    strict_minimum=True)
+        return animation
+
+
+def _all_options() -> tuple[str, ...]:
+    return tuple(dict.fromkeys(name for study in STUDIES.values() for name in study.options))

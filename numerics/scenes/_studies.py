@@ -1,0 +1,163 @@
+"""Each kind of study a scene can name, run through the public API with the scene's model.
+
+``run_study`` calls exactly what a user would call in Python (``sweep``,
+``attractors``, ``simulate``, ...), with the model's effects and only the
+recorders that the scene's observables need; it says which recorder it ran.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from perturb import EQ_2_6, ContactModel
+
+from ._schema import Scene
+
+__all__ = ["StudyRun", "run_study", "SERIES_STUDIES"]
+
+#: Studies of the perturbation series: they run Eq. 2.6, whatever the scene's effects.
+SERIES_STUDIES = ("analytic_response", "derivation")
+#: Observables that need the orbit's history (y after every step), not only its extrema.
+_NEED_ORBIT = {"spectrum", "contact_fraction", "time_history", "phase_portrait", "hysteresis"}
+
+
+@dataclass
+class StudyRun:
+    """What a study gave: its result objects, its printed text and its recorder."""
+
+    outcomes: list
+    recorder: str
+    text: str = ""
+
+
+def run_study(scene: Scene, model: ContactModel, frequency_hz=None, quiet: bool = True
+              ) -> StudyRun:
+    """Run ``scene``'s study with ``model`` (on ``frequency_hz`` instead of its own, if given)."""
+    grid = scene.frequency_hz if frequency_hz is None else np.asarray(frequency_hz, float)
+    return _RUNNERS[scene.study](scene, model, grid, quiet)
+
+
+def _pairs(scene: Scene, grid: np.ndarray) -> list[tuple[float, float]]:
+    """(f_e, P_a / Q) of every point: each amplitude at each frequency."""
+    return [(float(f), float(frac)) for frac in scene.pa_frac for f in grid]
+
+
+def _sweep(scene, model, grid, quiet) -> StudyRun:
+    from .._sweep import sweep
+
+    keep = bool(_NEED_ORBIT & set(scene.observables))
+    result = sweep(grid, scene.pa_frac, direction=scene.options["direction"], model=model,
+                   steps_per_period=scene.options["steps_per_period"],
+                   app_rtol=scene.tolerance, keep_orbits=keep, quiet=quiet)
+    recorder = "steady states: extrema of one response period"
+    return StudyRun([result], recorder + (", and y after every step of it" if keep else ""))
+
+
+def _attractors(scene, model, grid, quiet) -> StudyRun:
+    from .._attractors import attractors
+
+    censuses = [attractors(f, frac, model=model, steps_per_period=scene.options["steps_per_period"])
+                for f, frac in _pairs(scene, grid)]
+    return StudyRun(censuses, "steady states from a grid of initial states: extrema and y after "
+                              "every step of each attractor's period")
+
+
+def time_history_record(observables) -> tuple[str, ...]:
+    """The recorders ``simulate`` needs for these observables, and no other."""
+    record = ["final"]
+    if "app" in observables:
+        record.append("minmax")
+    if "extrema" in observables:
+        record.append("extrema")
+    if _NEED_ORBIT & set(observables):
+        record.append("history")
+    return tuple(record)
+
+
+def _time_history(scene, model, grid, quiet) -> StudyRun:
+    from .._simulate import simulate
+
+    pairs = _pairs(scene, grid)
+    record = time_history_record(scene.observables)
+    opts = scene.options
+    run = simulate([f for f, _ in pairs], [frac * model.parameters.Q_n for _, frac in pairs],
+                   periods=opts["periods"], steps_per_period=opts["steps_per_period"],
+                   model=model, record=record,
+                   record_periods=min(opts["record_periods"], opts["periods"]))
+    return StudyRun([run], f"simulate, recording {', '.join(record)} over the last "
+                           f"{min(opts['record_periods'], opts['periods'])} periods")
+
+
+def _hysteresis(scene, model, grid, quiet) -> StudyRun:
+    from .._hysteresis import hysteresis_loop
+
+    loops = [hysteresis_loop(f, frac, model=model, periods=scene.options["periods"],
+                             steps_per_period=scene.options["steps_per_period"])
+             for f, frac in _pairs(scene, grid)]
+    return StudyRun(loops, "y, v and the contact's reaction after every step of the last period")
+
+
+def _analytic(scene, model, grid, quiet) -> StudyRun:
+    from perturb import frequency_response
+
+    responses = [frequency_response(grid, frac, scene.options["order"],
+                                    parameters=model.parameters, tolerance=scene.tolerance)
+                 for frac in scene.pa_frac]
+    return StudyRun(responses, f"the compiled series of order {scene.options['order']} "
+                               "(every root, its extrema and its error estimate)")
+
+
+def _backbone(scene, model, grid, quiet) -> StudyRun:
+    from perturb import backbone_series
+
+    from .._backbone import exact_backbone
+
+    exact = exact_backbone(model=model, points=scene.options["points"])
+    return StudyRun([exact, backbone_series(scene.options["order"])],
+                    "the period quadrature of the free oscillation, and the series")
+
+
+def _derivation(scene, model, grid, quiet) -> StudyRun:
+    from perturb import derivation_text, derive
+
+    series = derive(scene.options["order"])
+    return StudyRun([], "the symbolic derivation (sympy)", text=derivation_text(series))
+
+
+def _natural_frequency(scene, model, grid, quiet) -> StudyRun:
+    from .._natural_frequency import natural_frequency_vs_height
+
+    heights = natural_frequency_vs_height(parameters=model.parameters,
+                                          points=scene.options["points"])
+    return StudyRun([heights], "f_n0 of Eq. 2.6 for each height (closed form)")
+
+
+def _comparison(scene, model, grid, quiet) -> StudyRun:
+    from .._compare import compare
+
+    result = compare(scene.options["orders"], scene.pa_frac, frequency_hz=grid,
+                     steps_per_period=scene.options["steps_per_period"], quiet=quiet)
+    return StudyRun([result], "series, exact backbone, and RK4 steady states of Eq. 2.6 and "
+                              "of the full model")
+
+
+_RUNNERS = {
+    "sweep": _sweep,
+    "attractors": _attractors,
+    "time_history": _time_history,
+    "hysteresis": _hysteresis,
+    "analytic_response": _analytic,
+    "backbone": _backbone,
+    "derivation": _derivation,
+    "natural_frequency": _natural_frequency,
+    "comparison": _comparison,
+}
+
+
+def model_of(scene: Scene, effects=None) -> ContactModel:
+    """The scene's model with ``effects`` (its own by default; Eq. 2.6 for the series)."""
+    if scene.study in SERIES_STUDIES:
+        return ContactModel(scene.parameters, EQ_2_6)
+    return ContactModel(scene.parameters, effects or scene.effects)

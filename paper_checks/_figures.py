@@ -1,30 +1,35 @@
-"""Every figure of the report, drawn from result objects (matplotlib Agg, no pyplot)."""
+"""Every figure of the report: the scenes' files, and the one no scene draws.
+
+The paper's figures are drawn by their scenes (``paper_checks/scenes``) as they run;
+the work-precision figure is drawn here, from its result (matplotlib Agg, no pyplot).
+"""
 
 from __future__ import annotations
 
 import time
-from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
 
-from numerics import hysteresis_loop, natural_frequency_vs_height
-from numerics.plots import (
-    plot_app,
-    plot_backbone,
-    plot_census,
-    plot_comparison,
-    plot_extrema,
-    plot_hysteresis,
-    plot_natural_frequency,
-)
-from perturb import PAPER_HYSTERESIS_POINT
-
-from ._scene import PaperScene
+from ._scene import CENSUS_SCENES, PaperScene
 from ._work_precision import WorkPrecision
 
-__all__ = ["draw_figures", "plot_work_precision"]
+__all__ = ["draw_figures", "plot_work_precision", "SCENE_FIGURES"]
 
+#: The report's figures that scenes draw: caption -> (scene file, figure kind).
+SCENE_FIGURES = {
+    "Fig. 2: A_pp against f_e, ten amplitudes, up and down": ("fig2-fig3.toml", "app"),
+    "Fig. 3: local extrema against f_e (minima light, maxima dark grey)": (
+        "fig2-fig3.toml", "extrema"),
+    "Fig. 4: natural frequency against the height of steel bodies": (
+        "fig4.toml", "natural_frequency"),
+    "Fig. 5: hysteresis loop at 1600 Hz, 0.40Q": ("fig5.toml", "hysteresis"),
+    "The exact backbone (period quadrature)": ("backbone.toml", "backbone"),
+    "Analytic against numerical: backbones and resonance curves": (
+        "comparison.toml", "comparison"),
+    **{f"Coexisting steady states at {point}": (scene, "census")
+       for point, scene in CENSUS_SCENES.items()},  # Section 3.3
+}
 
 
 def plot_work_precision(result: WorkPrecision, path=None) -> Figure:
@@ -50,35 +55,23 @@ def plot_work_precision(result: WorkPrecision, path=None) -> Figure:
     return figure
 
 
-def draw_figures(scene: PaperScene, work: WorkPrecision | None, out: Path) -> dict[str, str]:
-    """Draw every figure into ``out``; return {caption: file name}."""
-    out.mkdir(parents=True, exist_ok=True)
+def draw_figures(scene: PaperScene) -> dict[str, str]:
+    """Run every scene not run yet (each draws its figures into ``scene.out``), draw the
+    work-precision figure there; return {caption: file name}."""
+    if scene.out is None:
+        raise ValueError("`scene.out` is None: the scenes draw their figures into it.")
+    runs = scene.run_scenes()
+    figures = {}
+    for caption, (name, kind) in SCENE_FIGURES.items():
+        file = runs[name].settings["figures"][kind]
+        if file not in runs[name].files:
+            raise RuntimeError(f"scene {name} did not write {file} (wrote {runs[name].files})")
+        figures[caption] = file
     start = time.perf_counter()
-    figures = {
-        "Fig. 2: A_pp against f_e, ten amplitudes, up and down": (
-            "fig2-app.png", lambda p: plot_app(scene.sweep, p)),
-        "Fig. 3: local extrema against f_e (minima light, maxima dark grey)": (
-            "fig3-extrema.png", lambda p: plot_extrema(scene.sweep, p)),
-        "Fig. 4: natural frequency against the height of steel bodies": (
-            "fig4-natural-frequency.png",
-            lambda p: plot_natural_frequency(natural_frequency_vs_height(), p)),
-        "Fig. 5: hysteresis loop at 1600 Hz, 0.40Q": (
-            "fig5-hysteresis.png",
-            lambda p: plot_hysteresis(hysteresis_loop(*PAPER_HYSTERESIS_POINT), p)),
-        "The exact backbone (period quadrature)": (
-            "backbone.png", lambda p: plot_backbone(scene.backbone, p)),
-        "Analytic against numerical: backbones and resonance curves": (
-            "analytic-vs-numerical.png", lambda p: plot_comparison(scene.comparison, p)),
-    }
-    for name, census in scene.censuses.items():
-        slug = name.split(",")[0].replace(" ", "").lower()
-        figures[f"Coexisting steady states at {name}"] = (
-            f"census-{slug}.png", lambda p, c=census: plot_census(c, p))
-    if work is not None:
-        figures["What accuracy costs (work-precision)"] = (
-            "work-precision.png", lambda p: plot_work_precision(work, p))
-    for file, draw in figures.values():
-        draw(out / file)
+    # The figure kind `work_precision` has no drawer in numerics.scenes: drawn here.
+    figures["What accuracy costs (work-precision)"] = "work-precision.png"
+    plot_work_precision(scene.work_precision, scene.out / "work-precision.png")
     scene.timings["figures"] = {"seconds": time.perf_counter() - start,
-                                "settings": f"{len(figures)} PNG files"}
-    return {caption: file for caption, (file, _) in figures.items()}
+                                "settings": "1 PNG file (the scenes draw the other "
+                                            f"{len(SCENE_FIGURES)})"}
+    return figures

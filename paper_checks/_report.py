@@ -16,7 +16,6 @@ from ._claims import Claim
 from ._figures import draw_figures
 from ._registry import run_claims
 from ._scene import PaperScene
-from ._work_precision import work_precision
 
 __all__ = ["write_report"]
 
@@ -90,12 +89,10 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
     includes the imports; ``kernel_files`` lists the compiled kernels after the run.
     """
     start = time.perf_counter() if started is None else started
-    scene = PaperScene(quick=quick)
+    scene = PaperScene(quick=quick, out=out)
     claims = run_claims(scene)
-    work = work_precision(quick=quick)
-    scene.timings["accuracy against time"] = {"seconds": work.elapsed_s,
-                                              "settings": "every point measured"}
-    figures = draw_figures(scene, work, out)
+    work = scene.work_precision
+    figures = draw_figures(scene)
     elapsed = time.perf_counter() - start
     lines = ["# The paper, checked and redrawn", "",
              "*Analysis of the primary and superharmonic contact resonances – Part 1*, "

@@ -10,17 +10,26 @@ over a few (P_a, f_e) points:
 - scipy's DOP853 (full model lambdified from perturb, restarted at every crossing
   of y = 0; 30 periods from the reference orbit, App of the last period from its
   dense output) against the same reference as RK4.
+
+It is also a kind of scene study, ``work_precision`` (``scenes/work-precision.toml``),
+registered here on import. Its ``SceneRun.outcomes`` is empty and its ``text`` is the
+measurement as strict JSON (``WorkPrecision.from_text`` reads it back): the points
+are no result of the toolkit (no model of their own: each method runs its own), so
+they are not dressed up as one.
 """
 
 from __future__ import annotations
 
+import json
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from common import jsonable
 from numerics import reference_last_period, steady_states
+from numerics.scenes import Option, Study, StudyRun, register_study
 from perturb import EQ_2_6, PAPER, ContactModel, compile_series, frequency_response
 
 __all__ = ["WorkPrecision", "work_precision", "RK4_POINTS", "SERIES_POINTS"]
@@ -55,6 +64,21 @@ class WorkPrecision:
     def as_dict(self) -> dict:
         return {m.name: {"setting": m.setting, "settings": m.settings, "errors": m.errors,
                          "seconds": m.seconds, **m.extra} for m in self.methods}
+
+    def to_text(self) -> str:
+        """Every field, as strict JSON (NaN as null)."""
+        return json.dumps(jsonable(asdict(self)), allow_nan=False, indent=1)
+
+    @classmethod
+    def from_text(cls, text: str) -> "WorkPrecision":
+        data = json.loads(text)
+
+        def numbers(values):
+            return [math.nan if v is None else v for v in values]
+
+        methods = [Method(**{**m, "errors": numbers(m["errors"]),
+                             "seconds": numbers(m["seconds"])}) for m in data["methods"]]
+        return cls(methods, data["elapsed_s"])
 
 
 def _best_of(function, repeats: int = 3) -> tuple[object, float]:
@@ -129,3 +153,18 @@ def work_precision(quick: bool = False) -> WorkPrecision:
     rk4, ref = _rk4(quick)
     methods = [rk4, _series(quick), _dop853(ref, quick)]
     return WorkPrecision(methods, time.perf_counter() - start)
+
+
+def _run_scene_study(scene, model, frequency_hz, quiet) -> StudyRun:
+    """The ``work_precision`` scene study (each method runs its own model and points)."""
+    work = work_precision(quick=scene.options["quick"])
+    return StudyRun([], "RK4 steady states by steps per period, the series by order, DOP853 "
+                        "by rtol; the measurement is the text, as JSON", text=work.to_text())
+
+
+register_study(
+    "work_precision",
+    Study({"quick": Option("bool", False)}, observables=(), default_observables=(),
+          figures=("work_precision",)),
+    _run_scene_study,
+)

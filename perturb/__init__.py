@@ -4,7 +4,8 @@ The physical model of Eq. 2.1-2.4 lives here once (``ContactModel``), with the
 paper's parameter values as defaults (``PAPER``); Eq. 2.6 is derived from it
 (``Eq26``), and its numbers at a parameter set are one object
 (``Eq26Numbers``, from ``eq26_numbers``). The perturbation series of Eq. 2.6 is derived to any order
-(``derive``), printed (``text_report``, ``latex_report``, ``series_json``),
+(``derive``), printed (``text_report``, ``latex_report``, ``series_json``; step by step
+in the paper's names: ``derivation_text``, ``derivation_latex``),
 compiled (``compile_series``) and solved for the frequency response
 (``frequency_response``); ``backbone_series`` gives the free backbone exactly.
 """
@@ -13,6 +14,7 @@ from . import _series_symbols as series_symbols
 from . import _symbols as symbols
 from ._backbone_series import BackboneSeries, backbone_series
 from ._compiled import CompiledSeries, compile_series
+from ._derivation import derivation_latex, derivation_text
 from ._effects import EQ_2_6, FULL, LINEAR, Effects
 from ._eq26 import Eq26, Eq26Numbers, eq26_numbers
 from ._lindstedt import Series, derive
@@ -57,6 +59,8 @@ __all__ = [
     "Series",
     "backbone_series",
     "compile_series",
+    "derivation_latex",
+    "derivation_text",
     "derive",
     "eq26_numbers",
     "frequency_response",

@@ -1,7 +1,8 @@
 """Command line of the perturbation engine: ``python -m perturb {derive,backbone,response}``.
 
-- ``derive --order N [--latex FILE] [--json FILE] [--pretty]``: the series of Eq. 2.6
-  printed order by order (text on stdout).
+- ``derive --order N [--latex FILE] [--json FILE] [--pretty | --steps]``: the series of
+  Eq. 2.6 printed order by order (text on stdout); with ``--steps`` the derivation study,
+  step by step in the paper's names (text, and LaTeX with ``--latex``).
 - ``backbone --order N [--json FILE]``: omega/omega0 of the free undamped
   oscillator as exact coefficients of alpha = h a / omega0^2.
 - ``response --order N --pa-frac F --fmin HZ --fmax HZ --points M [--json FILE]``:
@@ -20,6 +21,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -36,6 +38,7 @@ from common import (
 )
 
 from ._backbone_series import backbone_series
+from ._derivation import derivation_latex, derivation_text
 from ._lindstedt import derive
 from ._parameters import PAPER_BAND_HZ
 from ._printing import latex_report, series_json, text_report
@@ -62,11 +65,14 @@ def _derive(args: argparse.Namespace) -> None:
              quiet=args.quiet)
     series = timed("derivation", lambda: derive(args.order))
     bar = progress(args.order + 1, "closed forms and text, order by order", quiet=args.quiet)
-    text = timed("closed forms and text",
-                 lambda: text_report(series, pretty=args.pretty, each_order=bar.update))
+    if args.steps:  # the derivation study, in the paper's names
+        report, latex_of = partial(derivation_text, series), derivation_latex
+    else:
+        report, latex_of = partial(text_report, series, pretty=args.pretty), latex_report
+    text = timed("closed forms and text", lambda: report(each_order=bar.update))
     bar.close()
     if args.latex:  # the files first: a reader of stdout that goes away loses nothing
-        latex = timed("LaTeX", lambda: latex_report(series))
+        latex = timed("LaTeX", lambda: latex_of(series))
         Path(args.latex).write_text(latex, encoding="utf-8")
     if args.json:
         timed("JSON", lambda: write_json(args.json, series_json(series)))
@@ -104,7 +110,10 @@ def _parser() -> argparse.ArgumentParser:
     derive_cmd.add_argument("--order", type=order, required=True)
     derive_cmd.add_argument("--latex", metavar="FILE", type=output_file)
     derive_cmd.add_argument("--json", metavar="FILE", type=output_file)
-    derive_cmd.add_argument("--pretty", action="store_true", help="2-d unicode formulas")
+    layout = derive_cmd.add_mutually_exclusive_group()
+    layout.add_argument("--pretty", action="store_true", help="2-d unicode formulas")
+    layout.add_argument("--steps", action="store_true",
+                        help="the derivation step by step, in the paper's names (Eq. 2.8-A.2)")
     derive_cmd.set_defaults(run=_derive)
 
     backbone_cmd = commands.add_parser("backbone", help="backbone series omega/omega0(alpha)")

@@ -27,6 +27,7 @@ _INDEXED = re.compile(r"^(A|phi|F|psi|z|zc)_(\d+)_(\d+)$")
 _SINGLE = re.compile(r"^(b|H|theta|u)_(\d+)$")
 _LATEX_BASE = {"A": "A", "phi": r"\varphi", "F": "F", "psi": r"\psi", "z": "z", "zc": r"\bar{z}"}
 _LATEX_SINGLE = {"b": "b", "H": "H", "theta": r"\theta", "u": "u"}
+_PAPER_PHASE = re.compile(r"^phi(\d+)$")  # the paper's phases phi0-phi9 (``_derivation``)
 
 
 def _check_series(series) -> Series:
@@ -55,7 +56,8 @@ def generic_right_side(n: int) -> sp.Expr:
 
 
 def latex_names(expr: sp.Expr) -> dict[sp.Symbol, str]:
-    """LaTeX names for the engine's symbols: A_2_1 -> A_{2,1}, phi_0_1 -> varphi_{0,1}."""
+    """LaTeX names for the engine's symbols: A_2_1 -> A_{2,1}, phi_0_1 -> varphi_{0,1};
+    and for the paper's phases: phi3 -> varphi_{3} (its A3, b2, u1 are sympy's A_{3}, ...)."""
     names: dict[sp.Symbol, str] = {sym.omega0: r"\omega_0", sym.eps: r"\varepsilon"}
     for symbol in expr.free_symbols:
         match = _INDEXED.match(str(symbol))
@@ -66,11 +68,14 @@ def latex_names(expr: sp.Expr) -> dict[sp.Symbol, str]:
         if match:
             base, n = match.groups()
             names[symbol] = f"{_LATEX_SINGLE[base]}_{{{n}}}"
+        match = _PAPER_PHASE.match(str(symbol))
+        if match:
+            names[symbol] = rf"\varphi_{{{match.group(1)}}}"
     return names
 
 
-def _left_side_text(n: int) -> str:
-    return f"u_{n}'' + 2*c*u_{n}' + omega**2*u_{n}"
+def _left_side_text(n: int, u: str = "u_") -> str:
+    return f"{u}{n}'' + 2*c*{u}{n}' + omega**2*{u}{n}"
 
 
 def _left_side_latex(n: int) -> str:

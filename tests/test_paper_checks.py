@@ -1,8 +1,25 @@
-"""`python -m paper_checks --quick`: the report the test suite can afford."""
+"""`python -m paper_checks --quick`: the report the test suite can afford; and the
+paper's figures as scenes (paper_checks/scenes), which repeat perturb's numbers exactly."""
 
+import dataclasses
 import json
 import subprocess
 import sys
+
+import numpy as np
+import pytest
+
+from numerics import sweep
+from numerics.scenes import run_scene
+from paper_checks._scene import CENSUS_SCENES, COMPARED_FRACTIONS, SCENES, paper_scene
+from perturb import (
+    FULL,
+    PAPER,
+    PAPER_BAND_HZ,
+    PAPER_COEXISTENCE,
+    PAPER_HYSTERESIS_POINT,
+    PAPER_PANEL_FRACTIONS,
+)
 
 
 def test_paper_checks_quick_writes_the_report(tmp_path):
@@ -25,3 +42,62 @@ def test_an_unusable_output_folder_is_refused_before_any_work(tmp_path):
     done = subprocess.run([sys.executable, "-m", "paper_checks", "--quick", "--out",
                            str(blocker)], capture_output=True, text=True, timeout=60)
     assert done.returncode == 2 and "argument --out" in done.stderr
+
+
+#: The paper's band on the 5 Hz grid of Fig. 2 and 3.
+BAND_5HZ = np.arange(PAPER_BAND_HZ[0], PAPER_BAND_HZ[1] + 2.5, 5.0)
+#: What each paper scene repeats of perturb's constants: (f_e grid [Hz], P_a / Q, options).
+PAPER_NUMBERS = {
+    "fig2-fig3.toml": (BAND_5HZ, PAPER_PANEL_FRACTIONS, {"direction": "both"}),
+    **{scene: ([PAPER_COEXISTENCE[point][0]], (PAPER_COEXISTENCE[point][1],), {})
+       for point, scene in CENSUS_SCENES.items()},
+    "fig4.toml": ([], (), {"points": 100}),
+    "fig5.toml": ([PAPER_HYSTERESIS_POINT[0]], (PAPER_HYSTERESIS_POINT[1],),
+                  {"periods": 400, "steps_per_period": 512}),
+    "backbone.toml": ([], (), {"points": 200}),
+    "comparison.toml": (BAND_5HZ, COMPARED_FRACTIONS,
+                        {"orders": (2, 4, 6, 8), "steps_per_period": 128}),
+    "work-precision.toml": ([], (), {"quick": False}),
+}
+
+
+#: The report's figure files (as before the scenes): all but work-precision.png are theirs.
+FIGURE_FILES = {"fig2-app.png", "fig3-extrema.png", "fig4-natural-frequency.png",
+                "fig5-hysteresis.png", "backbone.png", "analytic-vs-numerical.png",
+                "census-740hz.png", "census-490hz.png"}
+
+
+def test_every_paper_scene_reads_and_says_what_it_is():
+    assert sorted(p.name for p in SCENES.glob("*.toml")) == sorted(PAPER_NUMBERS)
+    assert set(CENSUS_SCENES) == set(PAPER_COEXISTENCE)
+    files = set()
+    for name in PAPER_NUMBERS:
+        scene = paper_scene(name)  # raises a SceneError naming the key if one is wrong
+        assert scene.title and len(scene.description) > 100, name
+        files |= set(scene.figures.values())
+    assert files == FIGURE_FILES
+
+
+@pytest.mark.parametrize("name", sorted(PAPER_NUMBERS))
+def test_a_paper_scene_repeats_perturbs_numbers_exactly(name):
+    # The paper's numbers live in perturb/_parameters.py; a scene file repeats some of
+    # them as data, and this is where the two are held equal.
+    frequency_hz, pa_frac, options = PAPER_NUMBERS[name]
+    scene = paper_scene(name)
+    assert np.array_equal(scene.frequency_hz, frequency_hz), name
+    assert scene.pa_frac == tuple(pa_frac), name
+    assert {k: scene.options[k] for k in options} == options, name
+    assert scene.parameters == PAPER and not scene.overrides and scene.effects == FULL, name
+
+
+def test_the_fig2_fig3_scene_is_the_papers_sweep_bit_for_bit():
+    scene = paper_scene("fig2-fig3.toml")
+    grid = scene.frequency_hz[[0, 98, 170, 230, 300]]  # 250, 740, 1100, 1400, 1750 Hz
+    run = run_scene(dataclasses.replace(scene, frequency_hz=grid)).outcomes[0]
+    direct = sweep(grid, PAPER_PANEL_FRACTIONS)
+    assert len(run.runs) == len(direct.runs) == 2 * len(PAPER_PANEL_FRACTIONS)
+    for got, want in zip(run.runs, direct.runs):
+        assert (got.pa_frac, got.direction) == (want.pa_frac, want.direction)
+        for field in ("app_m", "status", "ymin_m"):
+            assert np.array_equal(getattr(got, field), getattr(want, field), equal_nan=True), \
+                (field, got.pa_frac, got.direction)

@@ -24,6 +24,7 @@ from numerics import (
     steady_states,
     sweep,
 )
+from numerics.scenes import parse_scene, run_scene
 from perturb import PAPER, backbone_series, frequency_response
 
 FACTORIES = {
@@ -38,6 +39,10 @@ FACTORIES = {
     "Comparison": lambda: compare((2,), 0.05, frequency_hz=np.array([700.0, 1400.0])),
     "Response": lambda: frequency_response([800.0, 1420.0], 0.05, order=2),
     "BackboneSeries": lambda: backbone_series(4),
+    "SceneRun": lambda: run_scene(parse_scene(
+        'effects = "auto"\nobservables = ["app", "extrema", "spectrum", "contact_fraction"]\n'
+        '[excitation]\npa_frac = 0.05\nfrequency_hz = [700.0, 1400.0]\n'
+        '[study]\nkind = "sweep"\ndirection = "up"\n')),
 }
 
 

@@ -10,21 +10,36 @@ from ._auto import Selection, observable_change, select_effects
 from ._observables import contact_fraction, harmonic_amplitudes
 from ._result import SceneRun
 from ._run import run_scene
-from ._schema import NAMED_EFFECTS, OBSERVABLES, STUDIES, Scene, SceneError, parse_scene, read_scene
+from ._schema import (
+    NAMED_EFFECTS,
+    OBSERVABLES,
+    STUDIES,
+    Option,
+    Scene,
+    SceneError,
+    Study,
+    parse_scene,
+    read_scene,
+)
+from ._studies import StudyRun, register_study
 
 __all__ = [
     "NAMED_EFFECTS",
     "OBSERVABLES",
+    "Option",
     "STUDIES",
     "Scene",
     "SceneError",
     "SceneRun",
     "Selection",
+    "Study",
+    "StudyRun",
     "contact_fraction",
     "harmonic_amplitudes",
     "observable_change",
     "parse_scene",
     "read_scene",
+    "register_study",
     "run_scene",
     "select_effects",
 ]

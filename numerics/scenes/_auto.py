@@ -1,12 +1,13 @@
 """``effects = "auto"``: the fewest effects that keep a scene's observables within its tolerance.
 
-The full model is run on a sample of the scene's points; then each effect is
-switched off alone (the spring simplified step by step: linear, then Taylor
-polynomials of rising degree) and the change of every observable is measured
-against the full model on the same sample. An effect whose change stays below
-half the tolerance (the changes of several dropped effects add up) is dropped.
-The model without all the dropped effects is then checked against the full
-model at the scene's most sensitive points (the peak of each curve and where
+The full model is run on a sample of the scene's points; then the effects are
+switched off one after the other, each on top of those already dropped (the
+spring simplified step by step: linear, then Taylor polynomials of rising
+degree), and the change of every observable is measured against the full model
+on the same sample. An effect is dropped when the change stays below half the
+tolerance (a margin for the points between the samples). The model without the
+dropped effects is then checked against the full model at the scene's most
+sensitive points (the peak of each curve and where
 contact is nearest to being lost, with their neighbours on the scene's grid);
 if it is off by more than the tolerance anywhere, the scene runs the full model
 and says why.
@@ -40,14 +41,15 @@ MARGIN = 0.5
 #: Neighbours on each side of a sensitive point that the spot check also runs.
 SPOT_NEIGHBOURS = 2
 
-#: Each effect and the simpler laws tried in its place, simplest first.
+#: Each effect and the simpler laws tried in its place, simplest first. The laws come
+#: first: contact loss can be switched off only once the laws are polynomials.
 SIMPLIFICATIONS: tuple[tuple[str, tuple[tuple[str, dict], ...]], ...] = (
-    ("contact loss", (("switched off", {"contact_loss": False}),)),
-    ("power-law damping", (("linearised at y0", {"damping": "linear"}),)),
     ("power-law spring", (("linearised at y0", {"spring": "linear"}),
                           ("Taylor, degree 2", {"spring": "taylor", "taylor_degree": 2}),
                           ("Taylor, degree 3", {"spring": "taylor", "taylor_degree": 3}),
                           ("Taylor, degree 4", {"spring": "taylor", "taylor_degree": 4}))),
+    ("power-law damping", (("linearised at y0", {"damping": "linear"}),)),
+    ("contact loss", (("switched off", {"contact_loss": False}),)),
     ("gravity preload", (("switched off", {"gravity": False}),)),
 )
 
@@ -146,43 +148,42 @@ def _curve_change(name: str, a: dict, b: dict) -> float:
 
 
 def select_effects(scene: Scene) -> Selection:
-    """Measure what each effect contributes on a sample of the scene, and choose."""
+    """Measure what each effect contributes on a sample of the scene, and choose.
+
+    The effects are switched off one after the other, each on top of those already
+    dropped, and each change is measured against the full model: the last row that
+    says "dropped" is the model the scene runs, measured as a whole.
+    """
     sample = sample_grid(scene.frequency_hz)
     full, full_s = _evaluate(scene, FULL, sample)
-    rows, dropped = [], []
+    rows, chosen, chosen_s = [], FULL, full_s
     for effect, laws in SIMPLIFICATIONS:
         for law, change in laws:
             label = f"{effect}: {law}"
+            candidate = replace(chosen, **change)
             try:
-                curves, seconds = _evaluate(scene, replace(FULL, **change), sample)
+                curves, seconds = _evaluate(scene, candidate, sample)
             except ValueError as error:  # e.g. no contact loss with a non-polynomial law
+                reason = str(error).split(": use")[0]
                 rows.append({"effect": label, "change": {}, "seconds": None,
-                             "verdict": f"kept (cannot be switched off alone: {error})"})
+                             "verdict": f"kept (cannot be switched off: {reason})"})
                 break
             measured = observable_change(scene.observables, full, curves)
             small = max(measured.values(), default=0.0) <= MARGIN * scene.tolerance
             rows.append({"effect": label, "change": measured, "seconds": seconds,
                          "verdict": "dropped" if small else "kept"})
             if small:
-                dropped.append(change)
+                chosen, chosen_s = candidate, seconds
                 break
-    chosen = FULL
-    for change in dropped:
-        chosen = replace(chosen, **change)
     where = f"on {sample.size} of the scene's {scene.frequency_hz.size} frequencies"
     if chosen == FULL:
         return Selection(FULL, rows, f"every effect matters {where}: the full model ran "
                                      f"(full model {full_s:.3g} s there)", "full model")
-    return _spot_check(scene, chosen, rows, full, sample, full_s, where)
+    return _spot_check(scene, chosen, rows, full, (full_s, chosen_s), sample, where)
 
 
-def _spot_check(scene, chosen, rows, full, sample, full_s, where) -> Selection:
-    try:
-        ContactModel(scene.parameters, chosen)
-    except ValueError as error:
-        return Selection(FULL, rows, f"the effects dropped one by one cannot be dropped "
-                                     f"together ({error}): the full model ran", "full model")
-    _, chosen_s = _evaluate(scene, chosen, sample)
+def _spot_check(scene, chosen, rows, full, seconds, sample, where) -> Selection:
+    full_s, chosen_s = seconds
     spots = spot_grid(scene.frequency_hz, sample, full)
     full_spot, _ = _evaluate(scene, FULL, spots)
     chosen_spot, _ = _evaluate(scene, chosen, spots)

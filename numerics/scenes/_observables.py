@@ -26,7 +26,8 @@ def harmonic_amplitudes(y_m: np.ndarray, periods: int = 1) -> np.ndarray:
     Examples
     --------
     >>> t = np.arange(64) / 64
-    >>> np.round(harmonic_amplitudes(2.0 + np.cos(2 * np.pi * t) + 0.5 * np.sin(6 * np.pi * t)), 12)[:4]
+    >>> y = 2.0 + np.cos(2 * np.pi * t) + 0.5 * np.sin(6 * np.pi * t)
+    >>> np.round(harmonic_amplitudes(y), 12)[:4]
     array([2. , 1. , 0. , 0.5])
     """
     y = np.asarray(y_m, dtype=float)
@@ -78,7 +79,8 @@ def _sweep_curves(scene, outcomes, model) -> list[dict]:
 
 
 def _phase_portrait(census, attractor, model) -> dict:
-    """y and v over one period of the attractor, simulated again from its lane's start."""
+    """y and v over one period of the attractor, simulated again from its lane's start
+    (the start state included, so the curve is closed)."""
     from .._simulate import simulate
 
     lanes = census.lanes
@@ -89,7 +91,9 @@ def _phase_portrait(census, attractor, model) -> dict:
                    steps_per_period=int(lanes.steps_used[lane]), model=model,
                    y_init_m=lanes.y_start_m[lane], v_init_m_s=lanes.v_start_m_s[lane],
                    record=("history",), record_periods=p)
-    return {"y_m": run.history_y_m[0], "v_m_s": run.history_v_m_s[0]}
+    # The start state first: the curve closes on itself, one period later.
+    return {"y_m": np.r_[lanes.y_start_m[lane], run.history_y_m[0]],
+            "v_m_s": np.r_[lanes.v_start_m_s[lane], run.history_v_m_s[0]]}
 
 
 def _attractor_curves(scene, outcomes, model) -> list[dict]:

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._observables import HARMONICS_OF_F_E
 from ._schema import Scene
 
 __all__ = ["write_outputs"]
@@ -66,14 +67,14 @@ def _spectrum(scene, run, out, name):
 
     curve = run.observables[0]
     spectra = curve["spectrum_m"]
-    if scene.study == "sweep":  # harmonics of f_e against f_e, over the period-1 points
-        period_one = [np.asarray(s)[: 17] for s in spectra]
-        width = min((s.size for s in period_one if s.size), default=0)
-        rows = np.array([s[:width] if s.size >= width else np.full(width, np.nan)
-                         for s in period_one])
+    if scene.study == "sweep":  # harmonics of f_e against f_e, at the period-1 points
+        width = HARMONICS_OF_F_E + 1
+        rows = np.array([np.asarray(s) if p == 1 and np.size(s) == width
+                         else np.full(width, np.nan)
+                         for s, p in zip(spectra, run.outcomes[0].runs[0].period)])
         plot_spectrum(rows, out / name, frequency_hz=np.asarray(curve["frequency_hz"]),
-                      title=f"{scene.title}: {curve['label']}")
-    else:
+                      title=f"{scene.title}: {curve['label']} (period-1 points)")
+    else:  # one orbit: its harmonics
         plot_spectrum(np.asarray(spectra), out / name, title=f"{scene.title}: {curve['label']}")
     return [name]
 
@@ -158,10 +159,14 @@ def _animate(scene: Scene, run, out: Path) -> str:
     name = f"{Path(scene.source).stem}-{animation['kind']}.gif"
     runs = run.outcomes[0].runs
     if animation["kind"] == "sweep":
-        animate_sweep(out / name, frequency_hz=[r.frequency_hz for r in runs],
-                      app_m=[r.app_m for r in runs], labels=[f"{r.pa_frac:g} Q {r.direction}"
-                                                             for r in runs],
-                      frames=animation["frames"], fps=animation["fps"], title=scene.title)
+        # Points that did not settle have no App to draw: the curve passes over them.
+        kept = [np.isfinite(r.app_m) & r.settled for r in runs]
+        frequency = [r.frequency_hz[k] for r, k in zip(runs, kept)]
+        frames = min(animation["frames"], sum(f.size for f in frequency))
+        animate_sweep(out / name, frequency_hz=frequency,
+                      app_m=[r.app_m[k] for r, k in zip(runs, kept)],
+                      labels=[f"{r.pa_frac:g} Q {r.direction}" for r in runs],
+                      frames=frames, fps=animation["fps"], title=scene.title)
         return name
     first = runs[0]
     i = _animated_point(first, animation.get("frequency_hz"))

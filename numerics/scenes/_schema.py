@@ -19,7 +19,7 @@ import numpy as np
 from perturb import EQ_2_6, FULL, LINEAR, ContactParameters, Effects, parameters_with
 
 __all__ = ["Scene", "SceneError", "read_scene", "parse_scene", "STUDIES", "OBSERVABLES",
-           "NAMED_EFFECTS"]
+           "NAMED_EFFECTS", "Study", "Option"]
 
 #: What each observable is (the scene's ``observables`` list names them).
 OBSERVABLES = {
@@ -99,6 +99,12 @@ STUDIES: dict[str, Study] = {
          "steps_per_period": Option("int", 128, 4, 2**16)},
         ("app",), ("app",), ("comparison",), needs=("pa_frac", "frequency_hz")),
 }
+
+#: Studies whose effects are fixed: the series is of Eq. 2.6, the comparison runs both.
+_DEFAULT_EFFECTS = {"analytic_response": "eq26", "derivation": "eq26", "comparison": "full"}
+_FIXED_WHY = {"analytic_response": "solves the series of Eq. 2.6",
+              "derivation": "derives the series of Eq. 2.6",
+              "comparison": "compares the series with RK4 of Eq. 2.6 and of the full model"}
 
 _TOP = ("title", "description", "effects", "observables", "tolerance", "model", "excitation",
         "study", "output")
@@ -261,8 +267,12 @@ class _Reader:
         study = STUDIES[kind]
         options = self.options(kind, study, study_table)
         overrides = self.model(data.get("model", {}))
+        if overrides and kind == "comparison":
+            self.fail("model", "cannot be changed in a comparison study (it compares with the "
+                               "paper's model); use an analytic_response and a sweep scene")
         parameters = self.parameters(overrides)
-        effects = self.effects(data.get("effects", "full"), study, kind)
+        effects = self.effects(data.get("effects", _DEFAULT_EFFECTS.get(kind, "full")), study,
+                               kind)
         pa_frac, frequency = self.excitation(data.get("excitation"), study, kind)
         observables = self.observables(data.get("observables"), study, kind)
         tolerance = self.number("tolerance", data.get("tolerance", DEFAULT_TOLERANCE),
@@ -324,6 +334,10 @@ class _Reader:
             self.fail(f"model.{name}" if name else "model", str(error).rstrip(".") + ".")
 
     def effects(self, value, study: Study, kind: str) -> Effects | None:
+        fixed = _DEFAULT_EFFECTS.get(kind)
+        if fixed is not None and value != fixed:
+            self.fail("effects", f"of a {kind} study are {fixed!r} (it "
+                                 f"{_FIXED_WHY[kind]}); got {value!r}")
         if value == "auto":
             if not study.auto:
                 self.fail("effects", f"= \"auto\" applies to the studies "
@@ -389,8 +403,8 @@ class _Reader:
         for i, name in enumerate(value):
             self.string(f"observables[{i}]", name, tuple(OBSERVABLES))
             if name not in study.observables:
-                self.fail("observables", f"a {kind} study gives {', '.join(study.observables) or 'none'}; "
-                                         f"got {name!r}")
+                gives = ", ".join(study.observables) or "none"
+                self.fail("observables", f"a {kind} study gives {gives}; got {name!r}")
         return tuple(dict.fromkeys(value))
 
     def figures(self, value, study: Study, kind: str) -> dict[str, str]:

@@ -15,7 +15,7 @@ from perturb import EQ_2_6, ContactModel
 
 from ._schema import Scene
 
-__all__ = ["StudyRun", "run_study", "SERIES_STUDIES"]
+__all__ = ["StudyRun", "run_study", "register_study", "SERIES_STUDIES"]
 
 #: Studies of the perturbation series: they run Eq. 2.6, whatever the scene's effects.
 SERIES_STUDIES = ("analytic_response", "derivation")
@@ -154,6 +154,18 @@ _RUNNERS = {
     "natural_frequency": _natural_frequency,
     "comparison": _comparison,
 }
+
+
+def register_study(kind: str, study, runner) -> None:
+    """Add a kind of study (a ``Study`` of its options and outputs, and its runner
+    ``runner(scene, model, frequency_hz, quiet) -> StudyRun``); a package that owns a
+    study, as paper_checks owns the work-precision study, registers it on import."""
+    from ._schema import STUDIES
+
+    if kind in STUDIES and _RUNNERS.get(kind) is not runner:
+        raise ValueError(f"a study {kind!r} is already registered.")
+    STUDIES[kind] = study
+    _RUNNERS[kind] = runner
 
 
 def model_of(scene: Scene, effects=None) -> ContactModel:

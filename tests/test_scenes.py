@@ -1,0 +1,315 @@
+"""Scenes (issue 11): a study written as data, run with only the effects it calls for."""
+
+import dataclasses
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from common import Status, load
+from numerics import attractors, simulate, sweep
+from numerics.scenes import SceneError, parse_scene, read_scene, run_scene
+from perturb import EQ_2_6, FULL, PAPER, ContactModel, frequency_response
+
+SWEEP = """
+title = "two points"
+[excitation]
+pa_frac = [0.05]
+frequency_hz = [1300.0, 1400.0]
+[study]
+kind = "sweep"
+direction = "up"
+"""
+
+
+def _error(text: str) -> str:
+    with pytest.raises(SceneError) as caught:
+        parse_scene(text, "s.toml")
+    return str(caught.value)
+
+
+# --- item 4: data, never code -------------------------------------------------------------
+
+@pytest.mark.parametrize("text, key, line", [
+    ("[study]\nkind = 'sweep'\n[excitation]\npa_frac = 0.1\nfrequency_hz = [1.0]\n"
+     "[model]\nmass = 2.0\n", "model.mass", 7),
+    ("[study]\nkind = 'sweep'\ndirection = 'sideways'\n[excitation]\npa_frac = 0.1\n"
+     "frequency_hz = [1.0]\n", "study.direction", 3),
+    ("[study]\nkind = 'sweep'\n[excitation]\npa_frac = -0.1\nfrequency_hz = [1.0]\n",
+     "excitation.pa_frac[0]", None),
+    ("[study]\nkind = 'sweep'\n[excitation]\npa_frac = 0.1\nfrequency_hz = [2.0, 1.0]\n",
+     "excitation.frequency_hz", 5),
+    ("[study]\nkind = 'sweep'\n[excitation]\npa_frac = 0.1\n"
+     "frequency_hz = {start = 1, stop = 2}\n", "excitation.frequency_hz.count", None),
+    ("[study]\nkind = 'sweep'\n[excitation]\npa_frac = '0.1'\nfrequency_hz = [1.0]\n",
+     "excitation.pa_frac[0]", None),
+    ("colour = 'red'\n[study]\nkind = 'backbone'\n", "colour", 1),
+    ("[study]\nkind = 'fourier'\n", "study.kind", 2),
+    ("[study]\nkind = 'backbone'\norder = 1.5\n", "study.order", 3),
+    ("[study]\nkind = 'backbone'\npoints = true\n", "study.points", 3),
+    ("[study]\nkind = 'backbone'\nperiods = 3\n", "study.periods", 3),
+    ("tolerance = 0\n[study]\nkind = 'backbone'\n", "tolerance", 1),
+    ("effects = 'some'\n[study]\nkind = 'backbone'\n", "effects", 1),
+    ("effects = 'auto'\n[study]\nkind = 'backbone'\n", "effects", 1),
+    ("[effects]\nspring = 'cubic'\n[study]\nkind = 'backbone'\n", "effects.spring", None),
+    ("observables = ['colour']\n[study]\nkind = 'backbone'\n", "observables[0]", None),
+    ("observables = ['spectrum']\n[study]\nkind = 'backbone'\n", "observables", 1),
+    ("[study]\nkind = 'backbone'\n[output]\njson = '../elsewhere.json'\n", "output.json", 4),
+    ("[study]\nkind = 'backbone'\n[output]\nfigures = ['census']\n", "output.figures[0]", None),
+    ("[study]\nkind = 'sweep'\n", "excitation", None),
+    ("[model]\nm2 = 0.5\n[study]\nkind = 'backbone'\n", "model.m2", 2),
+    ("effects = 'full'\n[study]\nkind = 'analytic_response'\n[excitation]\npa_frac = 0.1\n"
+     "frequency_hz = [1.0]\n", "effects", 1),
+])
+def test_a_bad_scene_is_one_error_naming_file_key_line_and_value(text, key, line):
+    message = _error(text)
+    assert f"`{key}`" in message
+    assert message.startswith(f"s.toml:{line}:" if line else "s.toml:")
+
+
+def test_a_syntax_error_names_the_line_tomllib_gives():
+    message = _error("[study]\nkind = 'sweep' 'x'\n")
+    assert message.startswith("s.toml:2:") and "not valid TOML" in message
+
+
+def test_a_scene_file_that_cannot_be_read_is_a_scene_error(tmp_path):
+    with pytest.raises(SceneError, match="cannot be read"):
+        read_scene(tmp_path / "missing.toml")
+    (tmp_path / "latin.toml").write_bytes(b"title = '\xe9'\n")
+    with pytest.raises(SceneError, match="cannot be read"):
+        read_scene(tmp_path / "latin.toml")
+
+
+#: Strings that run code if anything evaluated them: each must stay inert text.
+HOSTILE = [
+    "__import__('os').system('touch PWNED')",
+    "exec('import os')",
+    "lambda: 1",
+    "sympify",
+    "1e-7; import os",
+    "${HOME}",
+]
+
+
+@pytest.mark.parametrize("payload", HOSTILE)
+def test_no_string_of_a_scene_is_evaluated(payload, tmp_path, monkeypatch):
+    import builtins
+
+    import sympy
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("a scene made the toolkit evaluate text")
+
+    for name in ("eval", "exec"):
+        monkeypatch.setattr(builtins, name, refuse)
+    monkeypatch.setattr(sympy, "sympify", refuse)
+    monkeypatch.chdir(tmp_path)
+    quoted = repr(payload)
+    for text in (f"[model]\nM = {quoted}\n[study]\nkind = 'backbone'\n",
+                 f"[study]\nkind = 'backbone'\norder = {quoted}\n",
+                 f"effects = {quoted}\n[study]\nkind = 'backbone'\n",
+                 f"[study]\nkind = {quoted}\n",
+                 f"observables = [{quoted}]\n[study]\nkind = 'backbone'\n",
+                 f"[study]\nkind = 'sweep'\n[excitation]\npa_frac = 0.1\n"
+                 f"frequency_hz = {{start = {quoted}, stop = 2, count = 2}}\n"):
+        with pytest.raises(SceneError):
+            parse_scene(text, "s.toml")
+    assert not (tmp_path / "PWNED").exists()
+
+
+def test_the_command_exits_2_with_one_line_and_no_traceback(tmp_path):
+    scene = tmp_path / "bad.toml"
+    scene.write_text("[study]\nkind = 'sweep'\ndirection = 'sideways'\n", encoding="utf-8")
+    done = subprocess.run([sys.executable, "-m", "numerics", "scene", str(scene)],
+                          capture_output=True, text=True)
+    assert done.returncode == 2
+    assert "Traceback" not in done.stderr
+    assert done.stderr.strip().splitlines() == [
+        f"error: {scene}:3: `study.direction` must be one of up, down, both; got 'sideways'"]
+
+
+def test_set_overrides_the_model_on_a_command_and_refuses_unknown_names():
+    run = [sys.executable, "-m", "numerics", "info"]
+    done = subprocess.run(run + ["--set", "M=0.4212"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    q = float(next(line.split()[1] for line in done.stdout.splitlines()
+                   if line.startswith("Q_n")))
+    assert q == pytest.approx(2 * PAPER.Q_n, rel=1e-6)  # twice the mass, twice the weight
+    done = subprocess.run(run + ["--set", "mass=1"], capture_output=True, text=True)
+    assert done.returncode == 2 and "the parameters are S, c_n, m2, h_n, l, M, g" in done.stderr
+
+
+# --- items 1, 2: the scene runs what the API runs, and records only what is asked ----------
+
+def test_a_sweep_scene_equals_the_api_call_bit_for_bit():
+    run = run_scene(parse_scene(SWEEP))
+    direct = sweep([1300.0, 1400.0], [0.05], direction="up")
+    for name in ("app_m", "ymin_m", "ymax_m", "status", "y_start_m", "steps_used"):
+        assert np.array_equal(getattr(run.outcomes[0].runs[0], name),
+                              getattr(direct.runs[0], name)), name
+    assert run.recorder == "steady states: extrema of one response period"
+    assert run.outcomes[0].runs[0].orbit_y_m is None  # App only: no orbit is kept
+    assert set(run.observables[0]) == {"label", "pa_frac", "direction", "frequency_hz",
+                                       "status", "app_m", "ymin_m", "ymax_m", "maxima_m",
+                                       "minima_m"}
+
+
+def test_a_reduced_model_scene_equals_the_api_call_with_those_effects():
+    text = SWEEP.replace('title = "two points"', 'effects = "eq26"\nobservables = ["app"]')
+    run = run_scene(parse_scene(text))
+    direct = sweep([1300.0, 1400.0], [0.05], direction="up",
+                   model=ContactModel(PAPER, EQ_2_6))
+    assert np.array_equal(run.outcomes[0].runs[0].app_m, direct.runs[0].app_m)
+    assert run.effects == EQ_2_6.__dict__ and run.route == "reduced model"
+    assert "ymin_m" not in run.observables[0]
+
+
+def test_a_census_scene_with_a_model_override_equals_the_api_call():
+    text = """
+    observables = ["app", "phase_portrait"]
+    [model]
+    l = 0.5
+    [excitation]
+    pa_frac = 0.15
+    frequency_hz = 1400.0
+    [study]
+    kind = "attractors"
+    """
+    run = run_scene(parse_scene(text))
+    model = ContactModel(dataclasses.replace(PAPER, l=0.5))
+    direct = attractors(1400.0, 0.15, model=model)
+    assert [a.app_m for a in run.outcomes[0].attractors] == [a.app_m for a in direct.attractors]
+    assert run.model["parameters"]["l"] == 0.5
+    curve = run.observables[0]
+    # The phase portrait is the orbit simulated again from its start: it closes on itself
+    # (one period later the state repeats to the settling tolerance) and spans App.
+    assert np.ptp(curve["y_m"]) == pytest.approx(curve["app_m"], rel=1e-6)
+    assert abs(curve["y_m"][-1] - curve["y_m"][0]) < 1e-4 * curve["app_m"]
+
+
+def test_a_time_history_scene_records_only_what_it_is_asked():
+    text = """
+    observables = ["app"]
+    [excitation]
+    pa_frac = 0.1
+    frequency_hz = [900.0, 1400.0]
+    [study]
+    kind = "time_history"
+    periods = 20
+    """
+    run = run_scene(parse_scene(text))
+    direct = simulate([900.0, 1400.0], 0.1 * PAPER.Q_n, periods=20, steps_per_period=256,
+                      record=("final", "minmax"), record_periods=4)
+    assert run.outcomes[0].history_y_m is None and run.outcomes[0].extrema is None
+    assert np.array_equal(run.outcomes[0].app_m, direct.app_m)
+    assert "final, minmax" in run.recorder
+
+
+def test_spectrum_and_contact_fraction_of_a_bouncing_orbit():
+    text = """
+    observables = ["app", "spectrum", "contact_fraction"]
+    [excitation]
+    pa_frac = 0.5
+    frequency_hz = [1200.0]
+    [study]
+    kind = "sweep"
+    direction = "up"
+    """
+    curve = run_scene(parse_scene(text)).observables[0]
+    spectrum, lost = curve["spectrum_m"][0], curve["contact_fraction"][0]
+    assert 0.05 < lost < 0.95  # the orbit bounces (Fig. 3: minima below zero at 0.5 Q)
+    # The harmonics rebuild the orbit's swing: the fundamental carries most of App / 2.
+    assert 0.3 * curve["app_m"][0] < spectrum[1] <= curve["app_m"][0] / 2
+
+
+def test_the_analytic_response_scene_is_the_series_of_eq26():
+    text = """
+    [excitation]
+    pa_frac = 0.05
+    frequency_hz = [800.0, 1000.0]
+    [study]
+    kind = "analytic_response"
+    order = 2
+    """
+    run = run_scene(parse_scene(text))
+    direct = frequency_response([800.0, 1000.0], 0.05, 2, tolerance=5e-3)
+    assert run.route == "series" and run.effects == EQ_2_6.__dict__
+    assert np.array_equal(run.outcomes[0].branches[0].app_m, direct.branches[0].app_m)
+
+
+def test_a_scene_writes_what_it_asks_into_its_folder_and_reads_back(tmp_path):
+    text = SWEEP + '[output]\njson = "run.json"\nfigures = ["app", "extrema"]\n'
+    run = run_scene(parse_scene(text), out=tmp_path)
+    assert run.files == ["app.png", "extrema.png", "run.json"]
+    back = load(tmp_path / "run.json")
+    assert np.array_equal(back.outcomes[0].runs[0].app_m, run.outcomes[0].runs[0].app_m)
+    assert np.array_equal(back.observables[0]["app_m"], run.observables[0]["app_m"])
+
+
+# --- item 3: effects = "auto" --------------------------------------------------------------
+
+AUTO = """
+effects = "auto"
+observables = ["app", "extrema"]
+tolerance = 5e-3
+[model]
+{model}
+[excitation]
+pa_frac = 0.05
+frequency_hz = {{start = {start}, stop = {stop}, count = {count}}}
+[study]
+kind = "sweep"
+direction = "up"
+"""
+
+
+def _full_model_twin(scene):
+    return run_scene(dataclasses.replace(scene, effects=FULL))
+
+
+@pytest.mark.parametrize("model, start, stop, count", [
+    ("", 300.0, 1000.0, 36),  # the paper's contact at 0.05 Q, away from the peak
+    ("m2 = 1.5\nl = 0.5", 300.0, 900.0, 31),  # another rough contact
+])
+def test_auto_drops_what_does_not_matter_and_stays_within_tolerance(model, start, stop, count):
+    scene = parse_scene(AUTO.format(model=model, start=start, stop=stop, count=count))
+    run = run_scene(scene)
+    full = _full_model_twin(scene).outcomes[0].runs[0]
+    chosen = run.outcomes[0].runs[0]
+    assert run.route == "reduced model", run.selection_note
+    assert run.effects["contact_loss"] is False  # no point comes near losing contact
+    assert (full.ymin_m > 0).all()
+    scale = full.app_m.max()
+    assert np.max(np.abs(chosen.app_m - full.app_m)) / scale <= scene.tolerance
+    assert np.max(np.abs(chosen.ymin_m - full.ymin_m)) / scale <= scene.tolerance
+    verdicts = {row["effect"]: row["verdict"] for row in run.selection}
+    assert verdicts["gravity preload: switched off"] == "kept"  # no preload, no contact
+    assert "effect switched off" in str(run)
+
+
+def test_auto_keeps_contact_loss_where_the_slider_bounces():
+    scene = parse_scene(AUTO.format(model="", start=1100.0, stop=1300.0, count=9)
+                        .replace("pa_frac = 0.05", "pa_frac = 0.5"))
+    run = run_scene(scene)
+    assert run.effects["contact_loss"] is True
+    row = next(r for r in run.selection if r["effect"].startswith("contact loss"))
+    assert row["verdict"] == "kept" and row["change"]["app"] > scene.tolerance
+
+
+def test_effects_that_cannot_be_dropped_are_kept_and_say_why():
+    # l = 0.5 is no polynomial: contact loss can go only with linear damping, and at a
+    # tolerance of 1e-4 near the peak linearising the damping changes the extrema by
+    # 6.5e-5 of App (measured), above half the tolerance: the damping law stays.
+    scene = parse_scene(AUTO.format(model="l = 0.5", start=1400.0, stop=1480.0, count=3)
+                        .replace("tolerance = 5e-3", "tolerance = 1e-4"))
+    run = run_scene(scene)
+    verdicts = {row["effect"].split(":")[0]: row["verdict"] for row in run.selection}
+    assert verdicts["power-law damping"] == "kept"
+    assert verdicts["contact loss"].startswith("kept (cannot be switched off")
+    assert run.effects["damping"] == "power" and run.effects["contact_loss"]
+
+
+def test_status_is_carried_into_the_observables():
+    run = run_scene(parse_scene(SWEEP))
+    assert (run.observables[0]["status"] == Status.SUCCESS).all()

@@ -30,6 +30,9 @@ figures: $(STAMP)
 	mv docs/figures/fig2-app-extrema.png docs/figures/fig3-extrema.png
 	$(PY) -c "from numerics import attractors; from numerics.plots import plot_census; \
 	plot_census(attractors(490.0, 0.5), 'docs/figures/census-490hz.png')"
+	for scene in paper_checks/scenes/examples/*.toml; do \
+	  $(PY) -m numerics scene $$scene --quiet --out docs/figures/examples > /dev/null || exit 1; \
+	done
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check perturb numerics paper_checks tests

@@ -3,7 +3,8 @@
 - ```pycon blocks are doctest sessions: each prints what the text shows (``...``
   stands for any text); the blocks of one file share a namespace, in order.
 - ```console blocks are commands (``python -m ...``, optionally after ``$ ``);
-  each runs in a new process, in a fresh folder that has an ``out/`` folder, and
+  each runs in a new process, in a fresh folder that has an ``out/`` folder (and
+  ``paper_checks/``, linked, for the scene files), and
   every line shown under it must match a printed line (``...``: any text). A
   file named by ``--json``, ``--latex``, ``--plot`` or ``--out`` must be written.
 """
@@ -58,6 +59,8 @@ def run_console(example) -> None:
     for command, shown in _commands(example.parsed):
         with tempfile.TemporaryDirectory() as folder:
             (Path(folder) / "out").mkdir()
+            # The scene files, where a command run from the repository finds them.
+            (Path(folder) / "paper_checks").symlink_to(ROOT / "paper_checks")
             args = shlex.split(command)
             env = {**os.environ, "PYTHONPATH": str(ROOT)}  # this tree's code
             done = subprocess.run([sys.executable, *args[1:]], cwd=folder, capture_output=True,

@@ -65,17 +65,20 @@ def _extrema(scene, run, out, name):
 def _spectrum(scene, run, out, name):
     from ..plots import plot_spectrum
 
-    curve = run.observables[0]
-    spectra = curve["spectrum_m"]
     if scene.study == "sweep":  # harmonics of f_e against f_e, at the period-1 points
+        # The curve of the largest response: there the harmonics are strongest.
+        k = int(np.argmax([np.nanmax(r.app_m, initial=0.0) for r in run.outcomes[0].runs]))
+        curve, periods = run.observables[k], run.outcomes[0].runs[k].period
         width = HARMONICS_OF_F_E + 1
         rows = np.array([np.asarray(s) if p == 1 and np.size(s) == width
                          else np.full(width, np.nan)
-                         for s, p in zip(spectra, run.outcomes[0].runs[0].period)])
+                         for s, p in zip(curve["spectrum_m"], periods)])
         plot_spectrum(rows, out / name, frequency_hz=np.asarray(curve["frequency_hz"]),
-                      title=f"{scene.title}: {curve['label']} (period-1 points)")
-    else:  # one orbit: its harmonics
-        plot_spectrum(np.asarray(spectra), out / name, title=f"{scene.title}: {curve['label']}")
+                      title=f"harmonics of y at P_a = {curve['label']} (period-1 points)")
+        return [name]
+    curve = run.observables[0]
+    spectra = curve["spectrum_m"]
+    plot_spectrum(np.asarray(spectra), out / name, title=f"harmonics of y: {curve['label']}")
     return [name]
 
 

@@ -1,0 +1,47 @@
+"""The lecturer's example scenes (issue 11, item 7): each runs and writes its figures."""
+
+import dataclasses
+from pathlib import Path
+
+import pytest
+from PIL import Image
+
+from numerics.scenes import read_scene, run_scene
+
+EXAMPLES = sorted((Path(__file__).parent.parent / "paper_checks" / "scenes" / "examples")
+                  .glob("*.toml"))
+#: Frames of an example's animation in the tests (the scene asks for more).
+TEST_FRAMES = 6
+
+
+def test_there_are_the_five_examples_the_readme_lists():
+    names = {p.stem for p in EXAMPLES}
+    assert names == {"linear-contact", "superharmonic-birth", "bouncing", "other-contact",
+                     "effects-at-740hz"}
+    readme = (Path(__file__).parent.parent / "README.md").read_text(encoding="utf-8")
+    for name in names:
+        assert f"examples/{name}.toml" in readme, name
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
+def test_each_example_runs_and_writes_its_figures(path, tmp_path):
+    scene = read_scene(path)
+    assert scene.description.strip(), "an example says what it shows"
+    if scene.animation:
+        scene = dataclasses.replace(scene, animation={**scene.animation, "frames": TEST_FRAMES})
+    run = run_scene(scene, out=tmp_path)
+    assert run.outcomes and all(o.summary() for o in run.outcomes)
+    expected = list(scene.figures.values())
+    assert run.files[: len(expected)] == expected
+    for name in run.files:
+        assert (tmp_path / name).stat().st_size > 1000, name
+        if name.endswith(".gif"):
+            assert Image.open(tmp_path / name).n_frames == TEST_FRAMES
+
+
+def test_the_bouncing_example_loses_contact_and_the_linear_one_cannot():
+    bouncing = run_scene(read_scene(EXAMPLES[0].parent / "bouncing.toml"))
+    fraction = bouncing.observables[0]["contact_fraction"]
+    assert (fraction > 0).all()  # at 0.5 Q over 900-1500 Hz the slider flies every period
+    linear = read_scene(EXAMPLES[0].parent / "linear-contact.toml")
+    assert linear.effects.contact_loss is False and linear.effects.spring == "linear"

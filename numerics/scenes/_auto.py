@@ -7,8 +7,9 @@ degree), and the change of every observable is measured against the full model
 on the same sample. An effect is dropped when the change stays below half the
 tolerance (a margin for the points between the samples). The model without the
 dropped effects is then checked against the full model at the scene's most
-sensitive points (the peak of each curve and where
-contact is nearest to being lost, with their neighbours on the scene's grid);
+sensitive points, with their neighbours on the scene's grid: the peaks of each
+curve (the superharmonic ones included), where contact is nearest to being
+lost, and where the chosen model differed most from the full one on the sample;
 if it is off by more than the tolerance anywhere, the scene runs the full model
 and says why.
 
@@ -156,7 +157,7 @@ def select_effects(scene: Scene) -> Selection:
     """
     sample = sample_grid(scene.frequency_hz)
     full, full_s = _evaluate(scene, FULL, sample)
-    rows, chosen, chosen_s = [], FULL, full_s
+    rows, chosen, chosen_s, chosen_curves = [], FULL, full_s, full
     for effect, laws in SIMPLIFICATIONS:
         for law, change in laws:
             label = f"{effect}: {law}"
@@ -173,18 +174,19 @@ def select_effects(scene: Scene) -> Selection:
             rows.append({"effect": label, "change": measured, "seconds": seconds,
                          "verdict": "dropped" if small else "kept"})
             if small:
-                chosen, chosen_s = candidate, seconds
+                chosen, chosen_s, chosen_curves = candidate, seconds, curves
                 break
     where = f"on {sample.size} of the scene's {scene.frequency_hz.size} frequencies"
     if chosen == FULL:
         return Selection(FULL, rows, f"every effect matters {where}: the full model ran "
                                      f"(full model {full_s:.3g} s there)", "full model")
-    return _spot_check(scene, chosen, rows, full, (full_s, chosen_s), sample, where)
+    sensitive = _sensitive(sample, full) | _worst(sample, full, chosen_curves)
+    return _spot_check(scene, chosen, rows, sensitive, (full_s, chosen_s), where)
 
 
-def _spot_check(scene, chosen, rows, full, seconds, sample, where) -> Selection:
+def _spot_check(scene, chosen, rows, sensitive, seconds, where) -> Selection:
     full_s, chosen_s = seconds
-    spots = spot_grid(scene.frequency_hz, sample, full)
+    spots = spot_grid(scene.frequency_hz, sensitive)
     full_spot, _ = _evaluate(scene, FULL, spots)
     chosen_spot, _ = _evaluate(scene, chosen, spots)
     worst = observable_change(scene.observables, full_spot, chosen_spot)
@@ -200,17 +202,55 @@ def _spot_check(scene, chosen, rows, full, seconds, sample, where) -> Selection:
     return Selection(chosen, rows, f"ran {chosen.describe()}; {spot}; {times}", "reduced model")
 
 
-def spot_grid(grid: np.ndarray, sample: np.ndarray, full: list[dict]) -> np.ndarray:
-    """The scene's frequencies next to each curve's peak and to its least y_min."""
+#: Peaks of each curve that the spot check visits (the highest, by App), and points where
+#: the chosen model differed most on the sample.
+SPOT_PEAKS = 4
+
+
+def _peaks(app: np.ndarray) -> np.ndarray:
+    """Indices of the curve's local maxima of App (its ends included), highest first."""
+    padded = np.r_[-np.inf, np.nan_to_num(app, nan=-np.inf), -np.inf]
+    peak = (padded[1:-1] >= padded[:-2]) & (padded[1:-1] >= padded[2:]) & np.isfinite(app)
+    index = np.flatnonzero(peak)
+    return index[np.argsort(-app[index])][:SPOT_PEAKS]
+
+
+def _curve_frequencies(curve: dict, sample: np.ndarray) -> np.ndarray:
+    return np.atleast_1d(np.asarray(curve.get("frequency_hz", sample), dtype=float))
+
+
+def _sensitive(sample: np.ndarray, full: list[dict]) -> set[float]:
+    """Each curve's peaks (the primary and the superharmonic ones) and its least y_min."""
     picks = set()
     for curve in full:
-        freq = np.atleast_1d(np.asarray(curve.get("frequency_hz", sample), dtype=float))
-        for key, pick in (("app_m", np.nanargmax), ("ymin_m", np.nanargmin)):
-            values = np.atleast_1d(np.asarray(curve.get(key, []), dtype=float))
-            if values.size == freq.size and np.isfinite(values).any():
-                picks.add(float(freq[pick(values)]))
+        freq = _curve_frequencies(curve, sample)
+        app = np.atleast_1d(np.asarray(curve.get("app_m", []), dtype=float))
+        if app.size == freq.size:
+            picks.update(float(freq[i]) for i in _peaks(app))
+        ymin = np.atleast_1d(np.asarray(curve.get("ymin_m", []), dtype=float))
+        if ymin.size == freq.size and np.isfinite(ymin).any():
+            picks.add(float(freq[np.nanargmin(ymin)]))
+    return picks
+
+
+def _worst(sample: np.ndarray, full: list[dict], chosen: list[dict]) -> set[float]:
+    """Where the chosen model differed most from the full one on the sample."""
+    picks = set()
+    for a, b in zip(full, chosen):
+        freq = _curve_frequencies(a, sample)
+        for key in ("app_m", "ymin_m"):
+            x = np.atleast_1d(np.asarray(a.get(key, []), dtype=float))
+            y = np.atleast_1d(np.asarray(b.get(key, []), dtype=float))
+            if x.size == y.size == freq.size and x.size:
+                gap = np.nan_to_num(np.abs(x - y), nan=np.inf)
+                picks.update(float(f) for f in freq[np.argsort(-gap)[:SPOT_PEAKS]])
+    return picks
+
+
+def spot_grid(grid: np.ndarray, picks: set[float]) -> np.ndarray:
+    """The scene's frequencies nearest to ``picks``, with their neighbours."""
     index = set()
     for f in picks:
         i = int(np.argmin(np.abs(grid - f)))
         index.update(range(max(i - SPOT_NEIGHBOURS, 0), min(i + SPOT_NEIGHBOURS + 1, grid.size)))
-    return grid[sorted(index)] if index else sample[:1]
+    return grid[sorted(index)] if index else grid[:1]

@@ -261,9 +261,10 @@ class _Reader:
         if "study" not in data:
             self.fail("study", f"is missing: a scene names its study, one of "
                                f"{', '.join(STUDIES)}")
-        study_table = self.mapping("study", data["study"], ("kind",) + _all_options())
-        kind = self.string("study.kind", study_table.get("kind"), tuple(STUDIES)) \
-            if "kind" in study_table else self.fail("study.kind", "is missing")
+        study_table = data["study"]
+        if not isinstance(study_table, dict) or "kind" not in study_table:
+            self.fail("study.kind", f"is missing: one of {', '.join(STUDIES)}")
+        kind = self.string("study.kind", study_table["kind"], tuple(STUDIES))
         study = STUDIES[kind]
         options = self.options(kind, study, study_table)
         overrides = self.model(data.get("model", {}))
@@ -435,5 +436,3 @@ class _Reader:
         return animation
 
 
-def _all_options() -> tuple[str, ...]:
-    return tuple(dict.fromkeys(name for study in STUDIES.values() for name in study.options))

@@ -18,9 +18,11 @@ Baselines, measured in the same run:
 
 from __future__ import annotations
 
+import statistics
 import subprocess
 import sys
 import tempfile
+import time
 from dataclasses import replace
 from pathlib import Path
 
@@ -31,9 +33,10 @@ from numerics.scenes import parse_scene, run_scene
 from paper_checks._scene import SCENES, paper_scene
 from perturb import FULL, PAPER_PANEL_FRACTIONS, Effects
 
-from ._timing import header, interleaved_medians, row
+from ._timing import header, row
 
 GOAL = 1.05  # the scene's time over the direct call's
+PAIRS = 11  # interleaved pairs of the scene and the direct call
 
 AUTO = """\
 title = "{pa_frac} Q, {start:g}-{stop:g} Hz, auto"
@@ -52,9 +55,26 @@ direction = "up"
 AUTO_SCENES = ((0.05, 300.0, 1000.0, 71), (0.5, 1000.0, 1400.0, 41))
 
 
-def _ratio_row(name: str, value: float, baseline: float) -> None:
-    """A row with the ratio value / baseline to three digits (a goal of a few %)."""
-    print(f"{name:<52} {value:>11.4g} s  {baseline:>11.4g} s  {value / baseline:>8.3f}x")
+def _ratio_row(name: str, times: tuple[float, float, float]) -> None:
+    """A row of ``_pair_ratios``: both medians, and the median ratio to three digits."""
+    value, baseline, ratio = times
+    print(f"{name:<52} {value:>11.4g} s  {baseline:>11.4g} s  {ratio:>8.3f}x")
+
+
+def _pair_ratios(first, second, repeats: int) -> tuple[float, float, float]:
+    """Medians of two functions run in turn, and the median of first / second pair by
+    pair (a burst of load on the shared machine spoils one pair, not the ratio)."""
+    times = []
+    for _ in range(repeats):
+        pair = []
+        for function in (first, second):
+            start = time.perf_counter()
+            function()
+            pair.append(time.perf_counter() - start)
+        times.append(pair)
+    a, b = zip(*times)
+    return (statistics.median(a), statistics.median(b),
+            statistics.median(x / y for x, y in times))
 
 
 def scene_layer() -> None:
@@ -64,7 +84,7 @@ def scene_layer() -> None:
     direct = lambda: sweep(grid, PAPER_PANEL_FRACTIONS)  # noqa: E731
     same = all(np.array_equal(a.app_m, b.app_m, equal_nan=True)
                for a, b in zip(in_scene().runs, direct().runs, strict=True))
-    scene_s, direct_s = interleaved_medians(in_scene, direct, repeats=7)
+    layer = _pair_ratios(in_scene, direct, PAIRS)
 
     text = (SCENES / "fig2-fig3.toml").read_text(encoding="utf-8")
     without_output, found, _ = text.partition("\n[output]")
@@ -78,18 +98,18 @@ def scene_layer() -> None:
                 "--points", str(grid.size), "--pa-frac", *map(repr, scene.pa_frac)]
         sweep_cmd = command + ["sweep", "--quiet", *band]
         run = lambda cmd: subprocess.run(cmd, check=True, capture_output=True)  # noqa: E731
-        scene_p, sweep_p = interleaved_medians(lambda: run(scene_cmd), lambda: run(sweep_cmd),
-                                               repeats=5)
+        commands = _pair_ratios(lambda: run(scene_cmd), lambda: run(sweep_cmd), 5)
 
     header(f"Fig. 2 + 3 scene against the direct sweep: {len(scene.pa_frac)} amplitudes x "
            f"up/down x {grid.size} points")
-    _ratio_row(f"scene, in process [s] vs sweep() (goal <= {GOAL}x)", scene_s, direct_s)
-    _ratio_row("`numerics scene` [s] vs `numerics sweep`, new process", scene_p, sweep_p)
-    verdict = "met" if scene_s <= GOAL * direct_s else "NOT met"
-    print(f"scene layer: {scene_s / direct_s - 1:+.1%} of the sweep's time (goal < +5 %: "
-          f"{verdict}); App arrays bit-identical to sweep(): {'yes' if same else 'NO'}")
-    print("commands: no figures in either (the scene copied without its [output] table); "
-          "medians of 5 interleaved pairs, kernels cached")
+    _ratio_row(f"scene, in process [s] vs sweep() (goal <= {GOAL}x)", layer)
+    _ratio_row("`numerics scene` [s] vs `numerics sweep`, new process", commands)
+    verdict = "met" if layer[2] <= GOAL else "NOT met"
+    print(f"scene layer: {layer[2] - 1:+.1%} of the sweep's time (goal < +5 %: {verdict}); "
+          f"App arrays bit-identical to sweep(): {'yes' if same else 'NO'}")
+    print(f"medians of {PAIRS} interleaved pairs in process, of 5 for the commands (no figures "
+          "in either: the scene copied without its [output] table; kernels cached); "
+          "ratio: the median of the pairs' ratios")
 
 
 def _largest_change(full: list[dict], other: list[dict], key: str) -> float:
@@ -106,20 +126,24 @@ def _largest_change(full: list[dict], other: list[dict], key: str) -> float:
 def auto_against_full(pa_frac: float, start: float, stop: float, count: int) -> None:
     auto = parse_scene(AUTO.format(pa_frac=pa_frac, start=start, stop=stop, count=count))
     full = replace(auto, effects=FULL)
-    chosen, reference = run_scene(auto), run_scene(full)  # warm-up: compiles the kernels
-    auto_s, full_s = interleaved_medians(lambda: run_scene(auto), lambda: run_scene(full),
-                                         repeats=5)
+    reference = run_scene(full)
+    run_scene(auto)  # warm-up: compiles (or loads) the kernels of every model it tries
+    times = _pair_ratios(lambda: run_scene(auto), lambda: run_scene(full), 5)
+    chosen = run_scene(auto)
     header(f"effects = \"auto\" against the full model: {auto.title.removesuffix(', auto')}, "
            f"{count} points, sweep up")
-    row("auto, whole run_scene [s] vs full model", auto_s, full_s, "s", ratio=False)
+    _ratio_row("auto, whole run_scene [s] vs full model", times)
     app = _largest_change(reference.observables, chosen.observables, "app_m")
     ymin = _largest_change(reference.observables, chosen.observables, "ymin_m")
     row("largest App change / max App vs tolerance", app, auto.tolerance, ratio=False)
     row("largest y_min change / max App vs tolerance", ymin, auto.tolerance, ratio=False)
-    slower = auto_s / full_s
+    slower = times[2]
     print(f"auto takes {slower:.2f}x the full model's time ("
           + ("slower: the selection runs the sample several times" if slower > 1 else "faster")
-          + f"); it ran {chosen.route}: {Effects(**chosen.effects).describe()}")
+          + f"); it ran the {chosen.route}: {Effects(**chosen.effects).describe()}")
+    tried = ", ".join(f"{r['effect']} {r['seconds']:.3f} s ({r['verdict'].split()[0]})"
+                      for r in chosen.selection if r["seconds"] is not None)
+    print(f"candidates on the sample: {tried}")
     print(f"its note: {chosen.selection_note}")
 
 

@@ -32,6 +32,10 @@ def _scene(args: argparse.Namespace) -> int:
         print(f"error: {error}", file=sys.stderr)
         return 2
     out = Path(args.out) if args.out else Path("out") / "scenes" / Path(args.file).stem
-    run = run_scene(scene, out=out, json=args.json, quiet=args.quiet)
+    try:
+        run = run_scene(scene, out=out, json=args.json, quiet=args.quiet)
+    except ValueError as error:  # a value the schema let through and the study refused
+        print(f"error: {args.file}: {error}", file=sys.stderr)
+        return 2
     print(run)
     return 0

@@ -102,8 +102,8 @@ def _difference(a, b, scale: float) -> float:
         return np.inf
     with np.errstate(invalid="ignore"):
         change = np.abs(a - b) / scale
-    both_nan = np.isnan(a) & np.isnan(b)
-    change = np.where(both_nan, 0.0, change)
+    # A point that failed or did not settle (NaN) in either model cannot vouch for the
+    # other: its change is infinite, and the effect is kept.
     return float(np.max(np.where(np.isnan(change), np.inf, change), initial=0.0))
 
 

@@ -86,8 +86,11 @@ def _contact_fraction(scene, run, out, name):
     from ..plots import plot_contact_fraction
 
     curves = run.observables
-    plot_contact_fraction(np.asarray(curves[0]["frequency_hz"]),
-                          np.array([c["contact_fraction"] for c in curves]), out / name,
+    grid = np.sort(np.asarray(curves[0]["frequency_hz"]))
+    # Each curve in the order of the grid (a down sweep runs it backwards).
+    fractions = [np.asarray(c["contact_fraction"])[np.argsort(c["frequency_hz"])]
+                 for c in curves]
+    plot_contact_fraction(grid, np.array(fractions), out / name,
                           labels=[c["label"] for c in curves], title=scene.title)
     return [name]
 

@@ -367,6 +367,8 @@ class _Reader:
                 self.fail(f"excitation.{name}", f"is missing: a {kind} study needs it")
         fracs = table.get("pa_frac", [])
         fracs = fracs if isinstance(fracs, list) else [fracs]
+        if "pa_frac" in study.needs and not fracs:
+            self.fail("excitation.pa_frac", "must name at least one amplitude, got []")
         pa_frac = tuple(self.number(f"excitation.pa_frac[{i}]", f, minimum=0)
                         for i, f in enumerate(fracs))
         if len(set(pa_frac)) != len(pa_frac):
@@ -388,6 +390,8 @@ class _Reader:
                 self.fail(f"{key}.stop", f"must be above start={start:g}, got {stop!r}")
             return np.linspace(start, stop, count)
         values = value if isinstance(value, list) else [value]
+        if not values:
+            self.fail(key, "must name at least one frequency, got []")
         if len(values) > MAX_FREQUENCIES:
             self.fail(key, f"lists {len(values)} frequencies, more than {MAX_FREQUENCIES}")
         grid = np.array([self.number(f"{key}[{i}]", f, minimum=0, strict_minimum=True)
@@ -399,8 +403,8 @@ class _Reader:
     def observables(self, value, study: Study, kind: str) -> tuple[str, ...]:
         if value is None:
             return study.default_observables
-        if not isinstance(value, list):
-            self.fail("observables", f"must be a list of names, got {value!r}")
+        if not isinstance(value, list) or not value:
+            self.fail("observables", f"must be a non-empty list of names, got {value!r}")
         for i, name in enumerate(value):
             self.string(f"observables[{i}]", name, tuple(OBSERVABLES))
             if name not in study.observables:

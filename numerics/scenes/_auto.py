@@ -26,11 +26,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from perturb import FULL, ContactModel, Effects, eq26_numbers
+from perturb import FULL, Effects, eq26_numbers
 
 from ._observables import observe
 from ._schema import Scene
-from ._studies import run_study
+from ._studies import model_of, run_study
 
 __all__ = ["Selection", "select_effects", "observable_change", "SAMPLE_POINTS", "MARGIN"]
 
@@ -77,7 +77,7 @@ def _evaluate(scene: Scene, effects: Effects, grid: np.ndarray) -> tuple[list[di
     (the model's kernels loaded, or compiled, before the clock starts)."""
     from .._codegen import compiled_kernels
 
-    model = ContactModel(scene.parameters, effects)
+    model = model_of(scene, effects)
     compiled_kernels(model)
     eq26_numbers(model.parameters)
     start = time.perf_counter()

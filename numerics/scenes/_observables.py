@@ -11,7 +11,8 @@ import numpy as np
 
 from ._schema import Scene
 
-__all__ = ["observe", "harmonic_amplitudes", "contact_fraction", "HARMONICS_OF_F_E"]
+__all__ = ["observe", "harmonic_amplitudes", "contact_fraction", "replay",
+           "HARMONICS_OF_F_E"]
 
 #: The spectrum keeps the harmonics up to this multiple of f_e.
 HARMONICS_OF_F_E = 16
@@ -78,22 +79,30 @@ def _sweep_curves(scene, outcomes, model) -> list[dict]:
     return curves
 
 
-def _phase_portrait(census, attractor, model) -> dict:
-    """y and v over one period of the attractor, simulated again from its lane's start
-    (the start state included, so the curve is closed)."""
+def replay(model, orbits, i: int, periods: int) -> dict:
+    """``periods`` periods of the orbit at point ``i`` of ``orbits`` (an ``Orbits``),
+    simulated again from its start with the steps it settled at: t, y and v, the start
+    state first, so that a whole number of orbit periods closes on itself."""
     from .._simulate import simulate
 
+    f_e = float(orbits.frequency_hz[i])
+    run = simulate(f_e, orbits.p_a_n[i], periods=periods,
+                   steps_per_period=int(orbits.steps_used[i]), model=model,
+                   y_init_m=orbits.y_start_m[i], v_init_m_s=orbits.v_start_m_s[i],
+                   record=("history",), record_periods=periods)
+    return {"time_s": np.r_[0.0, run.history_phase / f_e],
+            "y_m": np.r_[orbits.y_start_m[i], run.history_y_m[0]],
+            "v_m_s": np.r_[orbits.v_start_m_s[i], run.history_v_m_s[0]]}
+
+
+def _phase_portrait(census, attractor, model) -> dict:
+    """y and v over one period of the attractor, simulated again from the start of a
+    lane that reached it (the start state included, so the curve is closed)."""
     lanes = census.lanes
     candidates = np.flatnonzero(lanes.settled & (lanes.period == attractor.period))
     lane = candidates[np.argmin(np.abs(lanes.app_m[candidates] - attractor.app_m))]
-    p = int(attractor.period)
-    run = simulate(census.frequency_hz, lanes.p_a_n[lane], periods=p,
-                   steps_per_period=int(lanes.steps_used[lane]), model=model,
-                   y_init_m=lanes.y_start_m[lane], v_init_m_s=lanes.v_start_m_s[lane],
-                   record=("history",), record_periods=p)
-    # The start state first: the curve closes on itself, one period later.
-    return {"y_m": np.r_[lanes.y_start_m[lane], run.history_y_m[0]],
-            "v_m_s": np.r_[lanes.v_start_m_s[lane], run.history_v_m_s[0]]}
+    orbit = replay(model, lanes, lane, int(attractor.period))
+    return {"y_m": orbit["y_m"], "v_m_s": orbit["v_m_s"]}
 
 
 def _attractor_curves(scene, outcomes, model) -> list[dict]:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._observables import HARMONICS_OF_F_E
+from ._observables import HARMONICS_OF_F_E, replay
 from ._schema import Scene
 
 __all__ = ["write_outputs"]
@@ -198,16 +198,11 @@ _ANIMATED_PERIODS = 3
 
 def _orbit_history(scene, run, sweep_run, i: int) -> dict:
     """y after every step of a few periods of the orbit at point ``i``, simulated again."""
-    from perturb import ContactModel, Effects
+    from perturb import Effects
 
-    from .._simulate import simulate
+    from ._studies import model_of
 
-    model = ContactModel(scene.parameters, Effects(**run.effects))
-    steps = int(sweep_run.steps_used[i])
     periods = _ANIMATED_PERIODS * int(max(sweep_run.period[i], 1))
-    sim = simulate(sweep_run.frequency_hz[i], sweep_run.p_a_n[i], periods=periods,
-                   steps_per_period=steps, model=model, y_init_m=sweep_run.y_start_m[i],
-                   v_init_m_s=sweep_run.v_start_m_s[i], record=("history",),
-                   record_periods=periods)
-    return {"time_s": sim.history_phase / sweep_run.frequency_hz[i], "y_m": sim.history_y_m[0],
-            "y0_m": run.model["y0_m"]}
+    orbit = replay(model_of(scene, Effects(**run.effects)), sweep_run, i, periods)
+    # After every step, as the simulator records it (the start state left out).
+    return {"time_s": orbit["time_s"][1:], "y_m": orbit["y_m"][1:], "y0_m": run.model["y0_m"]}

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from perturb import EQ_2_6, ContactModel
+from perturb import ContactModel
 
 from ._schema import Scene
 
@@ -82,12 +82,12 @@ def _time_history(scene, model, grid, quiet) -> StudyRun:
     pairs = _pairs(scene, grid)
     record = time_history_record(scene.observables)
     opts = scene.options
+    recorded = min(opts["record_periods"], opts["periods"])
     run = simulate([f for f, _ in pairs], [frac * model.parameters.Q_n for _, frac in pairs],
                    periods=opts["periods"], steps_per_period=opts["steps_per_period"],
-                   model=model, record=record,
-                   record_periods=min(opts["record_periods"], opts["periods"]))
+                   model=model, record=record, record_periods=recorded)
     return StudyRun([run], f"simulate, recording {', '.join(record)} over the last "
-                           f"{min(opts['record_periods'], opts['periods'])} periods")
+                           f"{recorded} periods")
 
 
 def _hysteresis(scene, model, grid, quiet) -> StudyRun:
@@ -169,7 +169,6 @@ def register_study(kind: str, study, runner) -> None:
 
 
 def model_of(scene: Scene, effects=None) -> ContactModel:
-    """The scene's model with ``effects`` (its own by default; Eq. 2.6 for the series)."""
-    if scene.study in SERIES_STUDIES:
-        return ContactModel(scene.parameters, EQ_2_6)
+    """The scene's model with ``effects`` (its own by default: the schema fixes Eq. 2.6's
+    for the series studies)."""
     return ContactModel(scene.parameters, effects or scene.effects)

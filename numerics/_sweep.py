@@ -151,19 +151,24 @@ def sweep(
                  elapsed_s=time.perf_counter() - start)
 
 
-def _sweep_lanes(freq, p_a, model, quiet, **accuracy) -> Orbits:
+def _sweep_lanes(freq, p_a, model, quiet, start: Orbits | None = None, **accuracy) -> Orbits:
     """Walk every lane through its frequencies; the points, frequency by frequency.
 
     Each point starts from the orbit of the last point that settled, under-resolved
     or not (the paper's method), or from rest if none has: a point that failed,
     diverged or did not settle is reported with its status, and its last state,
-    which can be huge but finite, never seeds the next point.
+    which can be huge but finite, never seeds the next point. With ``start`` (one
+    settled orbit per lane), the lanes continue from it instead of starting at rest.
     """
     found = []
     lanes = freq.shape[0]
     y = np.full(lanes, eq26_numbers(model.parameters).y0_m)  # rest
     v, app, period = np.zeros(lanes), np.zeros(lanes), np.ones(lanes, dtype=np.int64)
     continued = None  # no orbit to continue before the first point
+    if start is not None:
+        y, v = start.y_start_m.copy(), start.v_start_m_s.copy()
+        app, period = start.app_m.copy(), start.period.copy()
+        continued = app
     bar = progress(freq.shape[1], "sweep", quiet=quiet)
     for j in range(freq.shape[1]):
         point = steady_states(freq[:, j], p_a, model=model, y_init_m=y, v_init_m_s=v,

@@ -5,13 +5,18 @@ switched off one after the other, each on top of those already dropped (the
 spring simplified step by step: linear, then Taylor polynomials of rising
 degree), and the change of every observable is measured against the full model
 on the same sample. An effect is dropped when the change stays below half the
-tolerance (a margin for the points between the samples). The model without the
-dropped effects is then checked against the full model at the scene's most
-sensitive points, with their neighbours on the scene's grid: the peaks of each
-curve (the superharmonic ones included), where contact is nearest to being
-lost, and where the chosen model differed most from the full one on the sample;
-if it is off by more than the tolerance anywhere, the scene runs the full model
-and says why.
+tolerance (a margin for the points between the samples).
+
+The model without the dropped effects then runs the scene, and is checked
+against the full model at the scene's most sensitive points: the peaks of each
+curve (the superharmonic ones included), every jump, where contact is nearest to
+being lost, and where the chosen model differed most from the full one on the
+sample. A sweep's answer at a point depends on the path that led there, so the
+full model runs through a window of the scene's grid around each such point,
+continuing from the chosen model's orbit just before the window, as the scene's
+own sweep would; it is compared with the scene's run point by point. If the
+chosen model is off by more than the tolerance anywhere, the scene runs the full
+model and says why.
 
 The change of an observable is the largest, over the points, of its difference
 from the full model divided by the curve's scale: the largest App of the curve
@@ -26,11 +31,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from perturb import FULL, Effects, eq26_numbers
+from common import Status
+from perturb import EQ_2_6, FULL, Effects, eq26_numbers
 
-from ._observables import observe
+from ._observables import observe, orbit_observables
 from ._schema import Scene
-from ._studies import model_of, run_study
+from ._series_route import SERIES_ORDER, series_curves
+from ._studies import StudyRun, model_of, run_study
 
 __all__ = ["Selection", "select_effects", "observable_change", "SAMPLE_POINTS", "MARGIN"]
 
@@ -41,6 +48,9 @@ SAMPLE_POINTS = 24
 MARGIN = 0.5
 #: Neighbours on each side of a sensitive point that the spot check also runs.
 SPOT_NEIGHBOURS = 2
+#: A sweep's window around a sensitive point: this many points of the grid before it (a
+#: fold of the full model a little earlier is crossed inside the window) and after it.
+WINDOW_BEFORE, WINDOW_AFTER = 4, 2
 
 #: Each effect and the simpler laws tried in its place, simplest first. The laws come
 #: first: contact loss can be switched off only once the laws are polynomials.
@@ -63,6 +73,8 @@ class Selection:
     rows: list[dict]
     note: str
     route: str
+    study: StudyRun | None = None  # the scene's run with ``effects``, when already run
+    observables: list[dict] | None = None  # its curves, when not read off a simulation
 
 
 def sample_grid(grid: np.ndarray, points: int = SAMPLE_POINTS) -> np.ndarray:
@@ -129,8 +141,10 @@ def observable_change(observables, full: list[dict], other: list[dict]) -> dict[
     return change
 
 
-def _curve_change(name: str, a: dict, b: dict) -> float:
-    scale = _scale(a)
+def _curve_change(name: str, a: dict, b: dict, scale: float | None = None) -> float:
+    """Change of observable ``name`` from curve ``a`` to ``b``, relative to ``scale``
+    (by default ``a``'s own: pass the whole curve's when ``a`` is a piece of it)."""
+    scale = _scale(a) if scale is None else scale
     if name == "app":
         return _difference(a["app_m"], b["app_m"], scale)
     if name == "extrema":
@@ -148,12 +162,15 @@ def _curve_change(name: str, a: dict, b: dict) -> float:
     return 0.0
 
 
-def select_effects(scene: Scene) -> Selection:
-    """Measure what each effect contributes on a sample of the scene, and choose.
+def select_effects(scene: Scene, quiet: bool = True) -> Selection:
+    """Measure what each effect contributes on a sample of the scene, choose, run and check.
 
     The effects are switched off one after the other, each on top of those already
     dropped, and each change is measured against the full model: the last row that
-    says "dropped" is the model the scene runs, measured as a whole.
+    says "dropped" is the model chosen, measured as a whole. The chosen model then
+    runs the scene (``Selection.study``) and is checked against the full model at
+    the scene's sensitive points; without a reduced model that passes, the
+    selection is the full model, and the scene is left to run it.
     """
     sample = sample_grid(scene.frequency_hz)
     full, full_s = _evaluate(scene, FULL, sample)
@@ -177,29 +194,169 @@ def select_effects(scene: Scene) -> Selection:
                 chosen, chosen_s, chosen_curves = candidate, seconds, curves
                 break
     where = f"on {sample.size} of the scene's {scene.frequency_hz.size} frequencies"
+    series = _series_candidate(scene, sample, full, rows)
+    if series is not None:
+        return series
     if chosen == FULL:
         return Selection(FULL, rows, f"every effect matters {where}: the full model ran "
                                      f"(full model {full_s:.3g} s there)", "full model")
     sensitive = _sensitive(sample, full) | _worst(sample, full, chosen_curves)
-    return _spot_check(scene, chosen, rows, sensitive, (full_s, chosen_s), where)
+    times = (f"time {where}: full model {full_s:.3g} s, chosen model {chosen_s:.3g} s "
+             f"({full_s / max(chosen_s, 1e-9):.2g}x)")
+    if scene.study == "sweep":
+        return _window_check(scene, chosen, rows, sensitive, times, quiet)
+    return _spot_check(scene, chosen, rows, sensitive, times)
 
 
-def _spot_check(scene, chosen, rows, sensitive, seconds, where) -> Selection:
-    full_s, chosen_s = seconds
+def _series_candidate(scene, sample, full, rows) -> Selection | None:
+    """The series as the route, if it gives every point within the tolerance: one valid
+    response everywhere, near the full model on the sample and at the sensitive points."""
+    start = time.perf_counter()
+    curves, responses, why_not = series_curves(scene, MARGIN * scene.tolerance)
+    seconds = time.perf_counter() - start
+    label = f"every effect: the perturbation series of Eq. 2.6, order {SERIES_ORDER}"
+    if curves is None:
+        rows.append({"effect": label, "change": {}, "seconds": None,
+                     "verdict": f"not a candidate ({why_not})"})
+        return None
+    at_sample = np.searchsorted(scene.frequency_hz, sample)
+    measured = observable_change(scene.observables, full, _at(curves, at_sample, scene))
+    small = max(measured.values(), default=0.0) <= MARGIN * scene.tolerance
+    rows.append({"effect": label, "change": measured, "seconds": seconds,
+                 "verdict": "route" if small else "not used"})
+    if not small:
+        return None
+    spots = spot_grid(scene.frequency_hz, _sensitive(sample, full))
+    full_spot, _ = _evaluate(scene, FULL, spots)
+    worst = observable_change(scene.observables, full_spot,
+                              _at(curves, np.searchsorted(scene.frequency_hz, spots), scene))
+    spot = f"spot check of the series at {spots.size} sensitive frequencies"
+    selection = _verdict(scene, EQ_2_6, rows, spot, max(worst.values(), default=0.0),
+                         f"the series took {seconds:.3g} s on all {scene.frequency_hz.size} "
+                         f"frequencies", ran=label.removeprefix("every effect: "))
+    if selection.route != "reduced model":
+        return None  # the simulated routes are tried next
+    recorder = (f"the perturbation series of Eq. 2.6, order {SERIES_ORDER}: App and extrema "
+                f"of u(t) at each frequency")
+    return Selection(EQ_2_6, rows, selection.note, "series",
+                     StudyRun(responses, recorder), observables=curves)
+
+
+def _at(curves: list[dict], index: np.ndarray, scene) -> list[dict]:
+    """The curves at the grid's points ``index`` (a down run holds the grid reversed)."""
+    out = []
+    for curve in curves:
+        # A down run holds the grid reversed: its points in its own (descending) order.
+        pick = index if curve["direction"] == "up" else scene.frequency_hz.size - 1 - index[::-1]
+        out.append({k: (v[pick] if isinstance(v, np.ndarray) else v) for k, v in curve.items()})
+    return out
+
+
+def _verdict(scene, chosen, rows, spot: str, largest: float, times: str,
+             study: StudyRun | None = None, ran: str = "") -> Selection:
+    spot += f": largest change {largest:.2e}, tolerance {scene.tolerance:g}"
+    if largest > scene.tolerance:
+        return Selection(FULL, rows, f"{spot}: above the tolerance, so the full model ran; "
+                                     f"{times}", "full model")
+    return Selection(chosen, rows, f"ran {ran or chosen.describe()}; {spot}; {times}",
+                     "reduced model", study)
+
+
+def _spot_check(scene, chosen, rows, sensitive, times) -> Selection:
+    """Both models at the sensitive frequencies and their neighbours (points whose answer
+    does not depend on the points before them: censuses, time histories)."""
     spots = spot_grid(scene.frequency_hz, sensitive)
     full_spot, _ = _evaluate(scene, FULL, spots)
     chosen_spot, _ = _evaluate(scene, chosen, spots)
     worst = observable_change(scene.observables, full_spot, chosen_spot)
-    largest = max(worst.values(), default=0.0)
-    times = (f"time {where}: full model {full_s:.3g} s, chosen model {chosen_s:.3g} s "
-             f"({full_s / max(chosen_s, 1e-9):.2g}x)")
     spot = (f"spot check at {spots.size} sensitive frequencies "
-            f"({', '.join(f'{f:g}' for f in spots[:8])}{' ...' if spots.size > 8 else ''} Hz): "
-            f"largest change {largest:.2e}, tolerance {scene.tolerance:g}")
-    if largest > scene.tolerance:
-        return Selection(FULL, rows, f"{spot}: above the tolerance, so the full model ran; "
-                                     f"{times}", "full model")
-    return Selection(chosen, rows, f"ran {chosen.describe()}; {spot}; {times}", "reduced model")
+            f"({', '.join(f'{f:g}' for f in spots[:8])}{' ...' if spots.size > 8 else ''} Hz)")
+    return _verdict(scene, chosen, rows, spot, max(worst.values(), default=0.0), times)
+
+
+def _window_check(scene, chosen, rows, sensitive, times, quiet) -> Selection:
+    """Run the scene's sweep with the chosen model, then the full model through a window
+    around every sensitive point of it, continuing from the scene's own orbit."""
+    model = model_of(scene, chosen)
+    study = run_study(scene, model, quiet=quiet)
+    runs, curves = study.outcomes[0].runs, observe(scene, study.outcomes, model)
+    windows = [(r, first) for r, run in enumerate(runs)
+               for first in _window_starts(run, sensitive)]
+    largest, worst_at = 0.0, None
+    for (r, first), points in zip(windows, _full_through(scene, study, windows)):
+        change = _window_change(scene, curves[r], points, first)
+        if change > largest:
+            largest, worst_at = change, runs[r].frequency_hz[first]
+    spot = (f"the full model through {len(windows)} windows of {_window_length(runs[0])} "
+            f"points around the peaks, jumps and sensitive points of the scene's sweep"
+            + (f" (largest change in the window from {worst_at:g} Hz)" if worst_at else ""))
+    return _verdict(scene, chosen, rows, spot, largest, times, study)
+
+
+def _window_length(run) -> int:
+    return min(WINDOW_BEFORE + WINDOW_AFTER + 1, run.status.size)
+
+
+def _window_starts(run, sensitive: set[float]) -> list[int]:
+    """First indices (in the order swept) of the windows around the run's sensitive points:
+    its peaks, both sides of its jumps, its least y_min and the sample's picks."""
+    jumps = run.jumps()
+    index = set(_peaks(np.asarray(run.app_m, dtype=float)).tolist()) | set(jumps)
+    index |= {j - 1 for j in jumps}
+    if np.isfinite(run.ymin_m).any():
+        index.add(int(np.nanargmin(run.ymin_m)))
+    index.update(int(np.argmin(np.abs(run.frequency_hz - f))) for f in sensitive)
+    length = _window_length(run)
+    return sorted({int(np.clip(i - WINDOW_BEFORE, 0, run.status.size - length))
+                   for i in index})
+
+
+def _full_through(scene, study: StudyRun, windows) -> list:
+    """The full model's points in every window (one ``Orbits`` each), all windows run as
+    lanes of one sweep. A window continues from the scene's last good orbit before it,
+    as the scene's sweep did; with none (the start of a run), from rest."""
+    from .._orbits import Orbits
+    from .._sweep import _sweep_lanes
+
+    model, runs = model_of(scene, FULL), study.outcomes[0].runs
+    length = _window_length(runs[0])
+    freq = np.array([runs[r].frequency_hz[first:first + length] for r, first in windows])
+    p_a = np.array([runs[r].pa_frac for r, _ in windows]) * model.parameters.Q_n
+    settings = study.outcomes[0].settings
+    accuracy = {key: settings[key] for key in ("steps_per_period", "tol", "app_rtol",
+                                                "max_periods", "method", "refinements",
+                                                "keep_orbits")}
+    seeds = [_last_good(runs[r], first) for r, first in windows]
+    out = [None] * len(windows)
+    for from_rest in (True, False):
+        group = [w for w, seed in enumerate(seeds) if (seed is None) == from_rest]
+        if not group:
+            continue
+        start = None if from_rest else Orbits.stack(
+            [runs[windows[w][0]].take([seeds[w]]) for w in group])
+        points = _sweep_lanes(freq[group], p_a[group], model, True, start=start, **accuracy)
+        for k, w in enumerate(group):  # points are stacked frequency by frequency
+            out[w] = points.take(np.arange(k, points.status.size, len(group)))
+    return out
+
+
+def _last_good(run, first: int) -> int | None:
+    """Index of the run's last orbit before ``first`` that seeded the next point."""
+    good = np.flatnonzero(run.settled[:first] | (run.status[:first] == Status.UNDER_RESOLVED))
+    return int(good[-1]) if good.size else None
+
+
+def _window_change(scene, curve: dict, points, first: int) -> float:
+    """Largest change of the scene's observables from the full model's window to the
+    scene's run on the same points, relative to the scene's whole curve."""
+    piece = slice(first, first + points.status.size)
+    full = {"app_m": points.app_m, "ymin_m": points.ymin_m, "ymax_m": points.ymax_m}
+    if points.orbit_y_m is not None:
+        full.update(orbit_observables(scene.observables, points.orbit_y_m, points.period))
+    chosen = {key: curve[key][piece] for key in full if key in curve}
+    scale = _scale(curve)
+    return max((_curve_change(name, full, chosen, scale) for name in scene.observables),
+               default=0.0)
 
 
 #: Peaks of each curve that the spot check visits (the highest, by App), and points where

@@ -11,7 +11,7 @@ import numpy as np
 
 from ._schema import Scene
 
-__all__ = ["observe", "harmonic_amplitudes", "contact_fraction", "replay",
+__all__ = ["observe", "orbit_observables", "harmonic_amplitudes", "contact_fraction", "replay",
            "HARMONICS_OF_F_E"]
 
 #: The spectrum keeps the harmonics up to this multiple of f_e.
@@ -51,7 +51,7 @@ def observe(scene: Scene, outcomes: list, model) -> list[dict]:
     return _OBSERVERS.get(scene.study, lambda *_: [])(scene, outcomes, model)
 
 
-def _orbit_observables(wanted, orbits: list, periods) -> dict:
+def orbit_observables(wanted, orbits: list, periods) -> dict:
     """Spectrum and contact fraction of orbits given as y after every step."""
     out = {}
     if "spectrum" in wanted:
@@ -74,7 +74,7 @@ def _sweep_curves(scene, outcomes, model) -> list[dict]:
             curve.update(ymin_m=run.ymin_m, ymax_m=run.ymax_m, maxima_m=run.maxima_m,
                          minima_m=run.minima_m)
         if run.orbit_y_m is not None:
-            curve.update(_orbit_observables(wanted, run.orbit_y_m, run.period))
+            curve.update(orbit_observables(wanted, run.orbit_y_m, run.period))
         curves.append(curve)
     return curves
 
@@ -117,7 +117,7 @@ def _attractor_curves(scene, outcomes, model) -> list[dict]:
             if "extrema" in wanted:
                 curve.update(ymin_m=a.ymin_m, ymax_m=a.ymax_m)
             curve.update({k: v[0] for k, v in
-                          _orbit_observables(wanted, [a.orbit_y_m], [a.period]).items()})
+                          orbit_observables(wanted, [a.orbit_y_m], [a.period]).items()})
             if "phase_portrait" in wanted:
                 curve.update(_phase_portrait(census, a, model))
             curves.append(curve)
@@ -136,7 +136,7 @@ def _time_history_curves(scene, outcomes, model) -> list[dict]:
             curve["extrema_m"] = run.extrema[i]
         if run.history_y_m is not None:
             y = run.history_y_m[i]
-            curve.update({k: v[0] for k, v in _orbit_observables(wanted, [y], [periods]).items()})
+            curve.update({k: v[0] for k, v in orbit_observables(wanted, [y], [periods]).items()})
             if wanted & {"time_history", "phase_portrait", "hysteresis"}:
                 curve["time_s"] = run.history_phase / f
                 curve.update(y_m=y, v_m_s=run.history_v_m_s[i])

@@ -30,6 +30,21 @@ def write_outputs(scene: Scene, run, out: Path) -> list[str]:
     return files
 
 
+def _title(scene: Scene) -> str:
+    """The scene's title for matplotlib: mathtext where it parses as such ("$f_e$"), and
+    otherwise every "$" written as itself ("x $\\frac$ y" would not draw)."""
+    from matplotlib.mathtext import MathTextParser
+
+    title = scene.title
+    if title.count("$") % 2:  # not mathtext for matplotlib: drawn as it is
+        return title
+    try:
+        MathTextParser("path").parse(title)
+    except ValueError:
+        return title.replace("$", r"\$")
+    return title
+
+
 def _numbered(out: Path, name: str, count: int) -> list[Path]:
     """``name`` for one figure; name-1, name-2, ... for several."""
     if count == 1:
@@ -46,13 +61,13 @@ def _each(draw, items, out: Path, name: str) -> list[str]:
 
 
 def _app(scene, run, out, name):
-    if scene.study == "sweep":
+    if scene.study == "sweep" and run.route != "series":
         from ..plots import plot_app
 
         return _each(plot_app, run.outcomes, out, name)
     from ..plots._curves import plot_curves
 
-    plot_curves(run.observables, out / name, title=scene.title)
+    plot_curves(run.observables, out / name, title=_title(scene))
     return [name]
 
 
@@ -91,7 +106,7 @@ def _contact_fraction(scene, run, out, name):
     fractions = [np.asarray(c["contact_fraction"])[np.argsort(c["frequency_hz"])]
                  for c in curves]
     plot_contact_fraction(grid, np.array(fractions), out / name,
-                          labels=[c["label"] for c in curves], title=scene.title)
+                          labels=[c["label"] for c in curves], title=_title(scene))
     return [name]
 
 
@@ -101,7 +116,7 @@ def _phase_portrait(scene, run, out, name):
     curves = [c for c in run.observables if "y_m" in c]
     plot_phase_portrait([c["y_m"] for c in curves], [c["v_m_s"] for c in curves], out / name,
                         y0_m=run.model.get("y0_m"),
-                        title=scene.title)
+                        title=_title(scene))
     return [name]
 
 
@@ -172,7 +187,7 @@ def _animate(scene: Scene, run, out: Path) -> str:
         animate_sweep(out / name, frequency_hz=frequency,
                       app_m=[r.app_m[k] for r, k in zip(runs, kept)],
                       labels=[f"{r.pa_frac:g} Q {r.direction}" for r in runs],
-                      frames=frames, fps=animation["fps"], title=scene.title)
+                      frames=frames, fps=animation["fps"], title=_title(scene))
         return name
     first = runs[0]
     i = _animated_point(first, animation.get("frequency_hz"))
@@ -180,7 +195,7 @@ def _animate(scene: Scene, run, out: Path) -> str:
     animate_slider(out / name, time_s=history["time_s"], y_m=history["y_m"],
                    y0_m=history["y0_m"], curve_hz=first.frequency_hz, curve_app_m=first.app_m,
                    point_hz=float(first.frequency_hz[i]), point_app_m=float(first.app_m[i]),
-                   frames=animation["frames"], fps=animation["fps"], title=scene.title)
+                   frames=animation["frames"], fps=animation["fps"], title=_title(scene))
     return name
 
 

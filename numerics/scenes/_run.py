@@ -58,11 +58,12 @@ def run_scene(scene: Scene | str | Path, *, out: str | Path | None = None, json:
     """
     scene = scene if isinstance(scene, Scene) else read_scene(scene)
     start = time.perf_counter()
-    rows, selection_note = [], ""
+    rows, selection_note, study, curves = [], "", None, None
     if scene.auto:
         note(f"{scene.title}: measuring what each effect contributes ...", quiet=quiet)
-        selection = select_effects(scene)
-        effects, route = selection.effects, selection.route
+        selection = select_effects(scene, quiet=quiet)
+        effects, route, study = selection.effects, selection.route, selection.study
+        curves = selection.observables
         rows, selection_note = selection.rows, selection.note
     else:
         effects = scene.effects
@@ -70,11 +71,13 @@ def run_scene(scene: Scene | str | Path, *, out: str | Path | None = None, json:
     model = model_of(scene, effects)
     if scene.study in SERIES_STUDIES:
         route = "series"
-    note(f"{scene.title}: {scene.study} study, {model.effects.describe()} ...", quiet=quiet)
-    study = run_study(scene, model, quiet=quiet)
+    if study is None:  # not run yet (auto has run a sweep's chosen model to check it)
+        note(f"{scene.title}: {scene.study} study, {model.effects.describe()} ...", quiet=quiet)
+        study = run_study(scene, model, quiet=quiet)
     run = SceneRun(title=scene.title, study=scene.study,
                    effects=model.effects.__dict__.copy(), recorder=study.recorder, route=route,
-                   outcomes=study.outcomes, observables=observe(scene, study.outcomes, model),
+                   outcomes=study.outcomes,
+                   observables=observe(scene, study.outcomes, model) if curves is None else curves,
                    selection=rows, selection_note=selection_note, text=study.text, files=[],
                    model=model.as_dict(), settings=scene.as_dict(),
                    elapsed_s=time.perf_counter() - start)

@@ -64,6 +64,10 @@ class Study:
 
 
 _STEADY = ("app", "extrema", "spectrum", "contact_fraction")
+#: Figures drawn from an observable, which the scene must ask for (a sweep's App figure
+#: is drawn from the sweep itself).
+_FIGURE_NEEDS = {name: name for name in ("app", "spectrum", "contact_fraction",
+                                         "phase_portrait", "time_history")}
 #: The studies a scene can run, by ``[study] kind``.
 STUDIES: dict[str, Study] = {
     "sweep": Study(
@@ -79,7 +83,7 @@ STUDIES: dict[str, Study] = {
         {"periods": Option("int", 200, 1, 10**6), "record_periods": Option("int", 4, 1, 10**4),
          "steps_per_period": Option("int", 256, 4, 2**16)},
         _STEADY + ("time_history", "phase_portrait", "hysteresis"),
-        ("time_history", "app"), ("time_history", "phase_portrait", "spectrum", "hysteresis"),
+        ("time_history", "app"), ("time_history", "phase_portrait", "spectrum"),
         needs=("pa_frac", "frequency_hz"), auto=True),
     "hysteresis": Study(
         {"periods": Option("int", 400, 1, 10**6), "steps_per_period": Option("int", 512, 4, 2**16)},
@@ -285,7 +289,7 @@ class _Reader:
             description=self.string("description", data.get("description", "")),
             parameters=parameters, effects=effects, pa_frac=pa_frac, frequency_hz=frequency,
             study=kind, options=options, observables=observables, tolerance=tolerance,
-            figures=self.figures(output.get("figures", []), study, kind),
+            figures=self.figures(output.get("figures", []), study, kind, observables),
             json=self.file_name("output.json", output["json"]) if "json" in output else None,
             text=self.file_name("output.text", output["text"]) if "text" in output else None,
             animation=self.animation(output.get("animation"), kind),
@@ -331,8 +335,11 @@ class _Reader:
         try:
             return parameters_with(overrides)
         except ValueError as error:
-            name = next((n for n in overrides if f"`{n}`" in str(error)), "")
-            self.fail(f"model.{name}" if name else "model", str(error).rstrip(".") + ".")
+            message, name = str(error).rstrip(".") + ".", ""
+            name = next((n for n in overrides if message.startswith(f"`{n}` ")), "")
+            if name:  # the key is named once, in front: "`model.M` must be > 0"
+                message = message.removeprefix(f"`{name}` ")
+            self.fail(f"model.{name}" if name else "model", message)
 
     def effects(self, value, study: Study, kind: str) -> Effects | None:
         fixed = _DEFAULT_EFFECTS.get(kind)
@@ -412,14 +419,21 @@ class _Reader:
                 self.fail("observables", f"a {kind} study gives {gives}; got {name!r}")
         return tuple(dict.fromkeys(value))
 
-    def figures(self, value, study: Study, kind: str) -> dict[str, str]:
+    def figures(self, value, study: Study, kind: str, observables) -> dict[str, str]:
         if isinstance(value, list):
             names = {self.string(f"output.figures[{i}]", v, study.figures): f"{v}.png"
                      for i, v in enumerate(value)}
-            return {k: v.replace("_", "-") for k, v in names.items()}
-        table = self.mapping("output.figures", value, study.figures)
-        return {name: self.file_name(f"output.figures.{name}", file)
-                for name, file in table.items()}
+            figures = {k: v.replace("_", "-") for k, v in names.items()}
+        else:
+            table = self.mapping("output.figures", value, study.figures)
+            figures = {name: self.file_name(f"output.figures.{name}", file)
+                       for name, file in table.items()}
+        for figure in figures:
+            need = _FIGURE_NEEDS.get(figure)
+            if need and need not in observables and not (figure == "app" and kind == "sweep"):
+                self.fail("output.figures", f"the {figure} figure draws the observable "
+                                            f"{need!r}: add it to `observables`")
+        return figures
 
     def animation(self, value, kind: str) -> dict | None:
         if value is None or value is False:

@@ -54,6 +54,7 @@ def _error(text: str) -> str:
     ("tolerance = 0\n[study]\nkind = 'backbone'\n", "tolerance", 1),
     ("effects = 'some'\n[study]\nkind = 'backbone'\n", "effects", 1),
     ("effects = 'auto'\n[study]\nkind = 'backbone'\n", "effects", 1),
+    ("effects = 'linear'\n[study]\nkind = 'natural_frequency'\n", "effects", 1),
     ("[effects]\nspring = 'cubic'\n[study]\nkind = 'backbone'\n", "effects.spring", None),
     ("observables = ['colour']\n[study]\nkind = 'backbone'\n", "observables[0]", None),
     ("observables = ['spectrum']\n[study]\nkind = 'backbone'\n", "observables", 1),
@@ -394,3 +395,19 @@ def test_a_title_with_dollar_signs_draws(title, tmp_path):
                         'frequency_hz = [800.0, 900.0]\n[study]\nkind = "analytic_response"\n'
                         '[output]\nfigures = ["app"]\n')
     assert run_scene(scene, out=tmp_path).files == ["app.png"]
+
+
+def test_the_natural_frequency_study_says_it_is_the_closed_form_of_eq26():
+    run = run_scene(parse_scene('[study]\nkind = "natural_frequency"\npoints = 3\n'))
+    assert run.route == "closed form" and run.effects == EQ_2_6.__dict__
+
+
+def test_auto_at_rest_measures_changes_in_the_models_own_length():
+    # With no force App is 0 in every model: the extrema are compared relative to the
+    # largest |y| (about y0), so switching the preload off is seen (it was measured in
+    # metres, 1e-7, and dropped).
+    scene = parse_scene(AUTO.format(model="", start=500.0, stop=1500.0, count=5)
+                        .replace("pa_frac = 0.05", "pa_frac = 0.0"))
+    run = run_scene(scene)
+    row = next(r for r in run.selection if r["effect"].startswith("gravity"))
+    assert row["verdict"] == "kept" and row["change"]["extrema"] > 0.1

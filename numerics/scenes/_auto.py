@@ -98,11 +98,13 @@ def _evaluate(scene: Scene, effects: Effects, grid: np.ndarray) -> tuple[list[di
 
 
 def _scale(curve: dict) -> float:
-    """The curve's length scale: its largest App (or the span of its orbit)."""
-    for key in ("app_m", "y_m"):
-        if key in curve:
-            values = np.abs(np.ravel(curve[key])) if key == "app_m" else np.ptp(curve[key])
-            scale = np.nanmax(values) if np.size(values) else 0.0
+    """The curve's length scale: its largest App (or the span of its orbit); where the
+    slider rests (both 0), its largest |y|, about y0: a length of the model, never 1 m."""
+    candidates = (("app_m", np.abs), ("y_m", np.ptp), ("ymax_m", np.abs), ("y_m", np.abs))
+    for key, measure in candidates:
+        if key in curve and np.size(curve[key]):
+            with np.errstate(invalid="ignore"):
+                scale = np.nanmax(measure(np.asarray(curve[key], dtype=float)))
             if np.isfinite(scale) and scale > 0:
                 return float(scale)
     return 1.0
@@ -189,6 +191,8 @@ def select_effects(scene: Scene, quiet: bool = True) -> Selection:
             measured = observable_change(scene.observables, full, curves)
             small = max(measured.values(), default=0.0) <= MARGIN * scene.tolerance
             rows.append({"effect": label, "change": measured, "seconds": seconds,
+                         "own_change": observable_change(scene.observables, chosen_curves,
+                                                         curves),
                          "verdict": "dropped" if small else "kept"})
             if small:
                 chosen, chosen_s, chosen_curves = candidate, seconds, curves

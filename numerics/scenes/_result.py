@@ -90,13 +90,17 @@ def _describe(effects: dict) -> str:
 
 
 def selection_table(rows: list[dict]) -> str:
-    """The effects table of ``effects = "auto"``: change of each observable when off."""
+    """The effects table of ``effects = "auto"``: change of each observable from the full
+    model when the effect is switched off on top of those dropped above it, and (``own``)
+    the largest change from the model of the row above it: what the effect alone adds."""
     observables = sorted({k for row in rows for k in row["change"]})
     width = max(len("effect switched off"), *(len(row["effect"]) for row in rows))
-    head = f"  {'effect switched off':<{width}}" + "".join(f"{o:>18}" for o in observables)
-    lines = [head + "  verdict"]
+    head = f"  {'effect switched off':<{width}}" + "".join(f"{o:>12}" for o in observables)
+    lines = [head + f"{'own':>12}  verdict"]
     for row in rows:
-        cells = "".join(f"{_cell(row['change'].get(o)):>18}" for o in observables)
+        cells = "".join(f"{_cell(row['change'].get(o)):>12}" for o in observables)
+        own = row.get("own_change") or {}
+        cells += f"{_cell(max(own.values()) if own else None):>12}"
         lines.append(f"  {row['effect']:<{width}}{cells}  {row['verdict']}")
     return "\n".join(lines)
 

@@ -71,6 +71,8 @@ def run_scene(scene: Scene | str | Path, *, out: str | Path | None = None, json:
     model = model_of(scene, effects)
     if scene.study in SERIES_STUDIES:
         route = "series"
+    elif scene.study == "natural_frequency":
+        route = "closed form"
     if study is None:  # not run yet (auto has run a sweep's chosen model to check it)
         note(f"{scene.title}: {scene.study} study, {model.effects.describe()} ...", quiet=quiet)
         study = run_study(scene, model, quiet=quiet)

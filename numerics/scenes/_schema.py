@@ -105,9 +105,11 @@ STUDIES: dict[str, Study] = {
 }
 
 #: Studies whose effects are fixed: the series is of Eq. 2.6, the comparison runs both.
-_DEFAULT_EFFECTS = {"analytic_response": "eq26", "derivation": "eq26", "comparison": "full"}
+_DEFAULT_EFFECTS = {"analytic_response": "eq26", "derivation": "eq26", "comparison": "full",
+                    "natural_frequency": "eq26"}
 _FIXED_WHY = {"analytic_response": "solves the series of Eq. 2.6",
               "derivation": "derives the series of Eq. 2.6",
+              "natural_frequency": "is f_n0 of Eq. 2.6 in closed form",
               "comparison": "compares the series with RK4 of Eq. 2.6 and of the full model"}
 
 _TOP = ("title", "description", "effects", "observables", "tolerance", "model", "excitation",

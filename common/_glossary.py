@@ -227,17 +227,21 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "fps": ("frames per second of an animation", "1/s", ""),
     "recorder": ("what the simulator recorded for a scene (only what its observables need)",
                  "", ""),
-    "route": ("how a scene was computed: full model, reduced model or series", "", ""),
+    "route": ("how a scene was computed: full model, reduced model, series (its studies) or "
+              "closed form", "", ""),
     "outcomes": ("the result objects a scene's study made, as the Python API returns them",
                  "", ""),
     "selection": ("effects = \"auto\": per effect, the change of each observable when it is "
                   "switched off, and the verdict", "", ""),
-    "selection_note": ("effects = \"auto\": the route chosen, the spot check, the times", "",
-                       ""),
+    "selection_note": ("effects = \"auto\": the route chosen, its check against the full "
+                       "model, the times", "", ""),
     "effect": ("an effect (and the simpler law tried for it) in the auto table", "", ""),
     "change": ("largest change of each observable from the full model, over the curve's "
                "scale (App; the largest harmonic; the contact fraction as is)", "1", ""),
-    "verdict": ("kept or dropped (and why it could not be dropped)", "", ""),
+    "own_change": ("the change of each observable from the model of the auto table's row "
+                   "above: what the effect alone adds", "1", ""),
+    "verdict": ("kept or dropped (and why it could not be dropped); for the series, whether "
+                "it reproduces the scene's run", "", ""),
     "seconds": ("time of a run on the auto sample", "s", ""),
     "files": ("the files a scene wrote, relative to its output folder", "", ""),
     "app": ("observable: peak-to-peak amplitude A_pp", "", "Fig. 2"),

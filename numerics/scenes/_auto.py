@@ -8,15 +8,19 @@ on the same sample. An effect is dropped when the change stays below half the
 tolerance (a margin for the points between the samples).
 
 The model without the dropped effects then runs the scene, and is checked
-against the full model at the scene's most sensitive points: the peaks of each
-curve (the superharmonic ones included), every jump, where contact is nearest to
-being lost, and where the chosen model differed most from the full one on the
-sample. A sweep's answer at a point depends on the path that led there, so the
-full model runs through a window of the scene's grid around each such point,
-continuing from the chosen model's orbit just before the window, as the scene's
-own sweep would; it is compared with the scene's run point by point. If the
-chosen model is off by more than the tolerance anywhere, the scene runs the full
-model and says why.
+against the full model at every point. For a sweep, the full model's steady
+state at each point is found from the chosen model's orbit there (one batch of
+lanes): the chosen orbit must lie within the tolerance of an attracting orbit of
+the full model, or Newton and the march find another one. Which of several
+coexisting orbits a sweep reaches depends on its path, so the full model also
+runs through a window of the scene's grid around each sensitive point (the peaks
+of each curve, the superharmonic ones included, both sides of every jump, where
+contact is nearest to being lost, and where the chosen model differed most on
+the sample), continuing from the chosen model's orbit just before the window, as
+the scene's own sweep would. Censuses and time histories, whose points do not
+depend on each other, are compared with the full model run at every point. If
+the chosen model is off by more than the tolerance anywhere, or a point did not
+settle in it, the scene runs the full model and says where.
 
 The change of an observable is the largest, over the points, of its difference
 from the full model divided by the curve's scale: the largest App of the curve
@@ -32,11 +36,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from common import Status
-from perturb import EQ_2_6, FULL, Effects, eq26_numbers
+from perturb import FULL, Effects, eq26_numbers
 
 from ._observables import observe, orbit_observables
 from ._schema import Scene
-from ._series_route import SERIES_ORDER, series_curves
 from ._studies import StudyRun, model_of, run_study
 
 __all__ = ["Selection", "select_effects", "observable_change", "SAMPLE_POINTS", "MARGIN"]
@@ -46,8 +49,9 @@ SAMPLE_POINTS = 24
 #: An effect is dropped when switching it off changes every observable by less than
 #: this fraction of the tolerance: the changes of the dropped effects add up.
 MARGIN = 0.5
-#: Neighbours on each side of a sensitive point that the spot check also runs.
-SPOT_NEIGHBOURS = 2
+#: Peaks of each curve that a sweep's windows visit (the highest, by App), and points where
+#: the chosen model differed most on the sample.
+SPOT_PEAKS = 4
 #: A sweep's window around a sensitive point: this many points of the grid before it (a
 #: fold of the full model a little earlier is crossed inside the window) and after it.
 WINDOW_BEFORE, WINDOW_AFTER = 4, 2
@@ -74,7 +78,6 @@ class Selection:
     note: str
     route: str
     study: StudyRun | None = None  # the scene's run with ``effects``, when already run
-    observables: list[dict] | None = None  # its curves, when not read off a simulation
 
 
 def sample_grid(grid: np.ndarray, points: int = SAMPLE_POINTS) -> np.ndarray:
@@ -171,8 +174,8 @@ def select_effects(scene: Scene, quiet: bool = True) -> Selection:
     dropped, and each change is measured against the full model: the last row that
     says "dropped" is the model chosen, measured as a whole. The chosen model then
     runs the scene (``Selection.study``) and is checked against the full model at
-    the scene's sensitive points; without a reduced model that passes, the
-    selection is the full model, and the scene is left to run it.
+    every point; without a reduced model that passes, the selection is the full
+    model, and the scene is left to run it.
     """
     sample = sample_grid(scene.frequency_hz)
     full, full_s = _evaluate(scene, FULL, sample)
@@ -198,103 +201,93 @@ def select_effects(scene: Scene, quiet: bool = True) -> Selection:
                 chosen, chosen_s, chosen_curves = candidate, seconds, curves
                 break
     where = f"on {sample.size} of the scene's {scene.frequency_hz.size} frequencies"
-    series = _series_candidate(scene, sample, full, rows)
-    if series is not None:
-        return series
     if chosen == FULL:
         return Selection(FULL, rows, f"every effect matters {where}: the full model ran "
                                      f"(full model {full_s:.3g} s there)", "full model")
-    sensitive = _sensitive(sample, full) | _worst(sample, full, chosen_curves)
     times = (f"time {where}: full model {full_s:.3g} s, chosen model {chosen_s:.3g} s "
              f"({full_s / max(chosen_s, 1e-9):.2g}x)")
     if scene.study == "sweep":
-        return _window_check(scene, chosen, rows, sensitive, times, quiet)
-    return _spot_check(scene, chosen, rows, sensitive, times)
+        sensitive = _sensitive(sample, full) | _worst(sample, full, chosen_curves)
+        return _sweep_check(scene, chosen, rows, sensitive, times, quiet)
+    return _pointwise_check(scene, chosen, rows, times, quiet)
 
 
-def _series_candidate(scene, sample, full, rows) -> Selection | None:
-    """The series as the route, if it gives every point within the tolerance: one valid
-    response everywhere, near the full model on the sample and at the sensitive points."""
-    start = time.perf_counter()
-    curves, responses, why_not = series_curves(scene, MARGIN * scene.tolerance)
-    seconds = time.perf_counter() - start
-    label = f"every effect: the perturbation series of Eq. 2.6, order {SERIES_ORDER}"
-    if curves is None:
-        rows.append({"effect": label, "change": {}, "seconds": None,
-                     "verdict": f"not a candidate ({why_not})"})
-        return None
-    at_sample = np.searchsorted(scene.frequency_hz, sample)
-    measured = observable_change(scene.observables, full, _at(curves, at_sample, scene))
-    small = max(measured.values(), default=0.0) <= MARGIN * scene.tolerance
-    rows.append({"effect": label, "change": measured, "seconds": seconds,
-                 "verdict": "route" if small else "not used"})
-    if not small:
-        return None
-    spots = spot_grid(scene.frequency_hz, _sensitive(sample, full))
-    full_spot, _ = _evaluate(scene, FULL, spots)
-    worst = observable_change(scene.observables, full_spot,
-                              _at(curves, np.searchsorted(scene.frequency_hz, spots), scene))
-    spot = f"spot check of the series at {spots.size} sensitive frequencies"
-    selection = _verdict(scene, EQ_2_6, rows, spot, max(worst.values(), default=0.0),
-                         f"the series took {seconds:.3g} s on all {scene.frequency_hz.size} "
-                         f"frequencies", ran=label.removeprefix("every effect: "))
-    if selection.route != "reduced model":
-        return None  # the simulated routes are tried next
-    recorder = (f"the perturbation series of Eq. 2.6, order {SERIES_ORDER}: App and extrema "
-                f"of u(t) at each frequency")
-    return Selection(EQ_2_6, rows, selection.note, "series",
-                     StudyRun(responses, recorder), observables=curves)
-
-
-def _at(curves: list[dict], index: np.ndarray, scene) -> list[dict]:
-    """The curves at the grid's points ``index`` (a down run holds the grid reversed)."""
-    out = []
-    for curve in curves:
-        # A down run holds the grid reversed: its points in its own (descending) order.
-        pick = index if curve["direction"] == "up" else scene.frequency_hz.size - 1 - index[::-1]
-        out.append({k: (v[pick] if isinstance(v, np.ndarray) else v) for k, v in curve.items()})
-    return out
-
-
-def _verdict(scene, chosen, rows, spot: str, largest: float, times: str,
-             study: StudyRun | None = None, ran: str = "") -> Selection:
-    spot += f": largest change {largest:.2e}, tolerance {scene.tolerance:g}"
-    if largest > scene.tolerance:
-        return Selection(FULL, rows, f"{spot}: above the tolerance, so the full model ran; "
+def _verdict(scene, chosen, rows, check: str, largest: float, times: str,
+             study: StudyRun) -> Selection:
+    check += f": largest change {largest:.2e}, tolerance {scene.tolerance:g}"
+    if not largest <= scene.tolerance:
+        return Selection(FULL, rows, f"{check}: above the tolerance, so the full model ran; "
                                      f"{times}", "full model")
-    return Selection(chosen, rows, f"ran {ran or chosen.describe()}; {spot}; {times}",
+    return Selection(chosen, rows, f"ran {chosen.describe()}; {check}; {times}",
                      "reduced model", study)
 
 
-def _spot_check(scene, chosen, rows, sensitive, times) -> Selection:
-    """Both models at the sensitive frequencies and their neighbours (points whose answer
-    does not depend on the points before them: censuses, time histories)."""
-    spots = spot_grid(scene.frequency_hz, sensitive)
-    full_spot, _ = _evaluate(scene, FULL, spots)
-    chosen_spot, _ = _evaluate(scene, chosen, spots)
-    worst = observable_change(scene.observables, full_spot, chosen_spot)
-    spot = (f"spot check at {spots.size} sensitive frequencies "
-            f"({', '.join(f'{f:g}' for f in spots[:8])}{' ...' if spots.size > 8 else ''} Hz)")
-    return _verdict(scene, chosen, rows, spot, max(worst.values(), default=0.0), times)
+def _pointwise_check(scene, chosen, rows, times, quiet) -> Selection:
+    """Both models at every point of a scene whose points do not depend on each other
+    (censuses, time histories): the check costs the full model's run."""
+    model = model_of(scene, chosen)
+    study = run_study(scene, model, quiet=quiet)
+    curves = observe(scene, study.outcomes, model)
+    full, _ = _evaluate(scene, FULL, scene.frequency_hz)
+    worst = observable_change(scene.observables, full, curves)
+    check = f"the full model at all {scene.frequency_hz.size} frequencies of the scene"
+    return _verdict(scene, chosen, rows, check, max(worst.values(), default=0.0), times, study)
 
 
-def _window_check(scene, chosen, rows, sensitive, times, quiet) -> Selection:
-    """Run the scene's sweep with the chosen model, then the full model through a window
-    around every sensitive point of it, continuing from the scene's own orbit."""
+def _sweep_check(scene, chosen, rows, sensitive, times, quiet) -> Selection:
+    """Run the scene's sweep with the chosen model; then the full model at every point,
+    from the chosen model's orbit there, and through a window around every sensitive
+    point, continuing from the scene's orbit before it (the path a sweep takes)."""
     model = model_of(scene, chosen)
     study = run_study(scene, model, quiet=quiet)
     runs, curves = study.outcomes[0].runs, observe(scene, study.outcomes, model)
+    largest, worst_at = _every_point(scene, study, curves)
     windows = [(r, first) for r, run in enumerate(runs)
                for first in _window_starts(run, sensitive)]
-    largest, worst_at = 0.0, None
     for (r, first), points in zip(windows, _full_through(scene, study, windows)):
         change = _window_change(scene, curves[r], points, first)
-        if change > largest:
+        if not change <= largest:
             largest, worst_at = change, runs[r].frequency_hz[first]
-    spot = (f"the full model through {len(windows)} windows of {_window_length(runs[0])} "
-            f"points around the peaks, jumps and sensitive points of the scene's sweep"
-            + (f" (largest change in the window from {worst_at:g} Hz)" if worst_at else ""))
-    return _verdict(scene, chosen, rows, spot, largest, times, study)
+    check = (f"the full model at every point from the chosen orbit there, and through "
+             f"{len(windows)} windows of {_window_length(runs[0])} points around the peaks, "
+             f"jumps and sensitive points of the sweep"
+             + (f" (largest change at {worst_at:g} Hz)" if worst_at is not None else ""))
+    return _verdict(scene, chosen, rows, check, largest, times, study)
+
+
+def _every_point(scene, study: StudyRun, curves) -> tuple[float, float | None]:
+    """The full model's steady state at every point of the chosen sweep, continued from
+    the chosen orbit there (one batch of lanes): the largest change, and where."""
+    from .._orbits import Orbits
+    from .._steady import steady_states
+
+    runs = study.outcomes[0].runs
+    points = Orbits.stack(runs)
+    good = points.settled | (points.status == Status.UNDER_RESOLVED)
+    if not good.all():  # a point the chosen model did not settle cannot vouch for itself
+        return np.inf, float(points.frequency_hz[np.argmin(good)])
+    model = model_of(scene, FULL)
+    p_a = np.repeat([run.pa_frac for run in runs], [run.status.size for run in runs])
+    found = steady_states(points.frequency_hz, p_a * model.parameters.Q_n, model=model,
+                          y_init_m=points.y_start_m, v_init_m_s=points.v_start_m_s,
+                          period_guess=points.period, app_guess_m=points.app_m,
+                          **_accuracy(study))
+    largest, where, first = 0.0, None, 0
+    for run, curve in zip(runs, curves):
+        for i in range(run.status.size):  # point by point, to say where
+            change = _window_change(scene, curve, found.take([first + i]), i)
+            if not change <= largest:
+                largest, where = change, float(run.frequency_hz[i])
+        first += run.status.size
+    return largest, where
+
+
+def _accuracy(study: StudyRun) -> dict:
+    """The sweep's accuracy settings, for the full model's checks."""
+    settings = study.outcomes[0].settings
+    return {key: settings[key] for key in ("steps_per_period", "tol", "app_rtol",
+                                           "max_periods", "method", "refinements",
+                                           "keep_orbits")}
 
 
 def _window_length(run) -> int:
@@ -326,10 +319,7 @@ def _full_through(scene, study: StudyRun, windows) -> list:
     length = _window_length(runs[0])
     freq = np.array([runs[r].frequency_hz[first:first + length] for r, first in windows])
     p_a = np.array([runs[r].pa_frac for r, _ in windows]) * model.parameters.Q_n
-    settings = study.outcomes[0].settings
-    accuracy = {key: settings[key] for key in ("steps_per_period", "tol", "app_rtol",
-                                                "max_periods", "method", "refinements",
-                                                "keep_orbits")}
+    accuracy = _accuracy(study)
     seeds = [_last_good(runs[r], first) for r, first in windows]
     out = [None] * len(windows)
     for from_rest in (True, False):
@@ -361,11 +351,6 @@ def _window_change(scene, curve: dict, points, first: int) -> float:
     scale = _scale(curve)
     return max((_curve_change(name, full, chosen, scale) for name in scene.observables),
                default=0.0)
-
-
-#: Peaks of each curve that the spot check visits (the highest, by App), and points where
-#: the chosen model differed most on the sample.
-SPOT_PEAKS = 4
 
 
 def _peaks(app: np.ndarray) -> np.ndarray:
@@ -406,12 +391,3 @@ def _worst(sample: np.ndarray, full: list[dict], chosen: list[dict]) -> set[floa
                 gap = np.nan_to_num(np.abs(x - y), nan=np.inf)
                 picks.update(float(f) for f in freq[np.argsort(-gap)[:SPOT_PEAKS]])
     return picks
-
-
-def spot_grid(grid: np.ndarray, picks: set[float]) -> np.ndarray:
-    """The scene's frequencies nearest to ``picks``, with their neighbours."""
-    index = set()
-    for f in picks:
-        i = int(np.argmin(np.abs(grid - f)))
-        index.update(range(max(i - SPOT_NEIGHBOURS, 0), min(i + SPOT_NEIGHBOURS + 1, grid.size)))
-    return grid[sorted(index)] if index else grid[:1]

@@ -133,7 +133,7 @@ def _time_history_curves(scene, outcomes, model) -> list[dict]:
         if "app" in wanted:
             curve["app_m"] = run.app_m[i]
         if "extrema" in wanted:
-            curve["extrema_m"] = run.extrema[i]
+            curve.update(extrema_m=run.extrema[i], ymin_m=run.ymin_m[i], ymax_m=run.ymax_m[i])
         if run.history_y_m is not None:
             y = run.history_y_m[i]
             curve.update({k: v[0] for k, v in orbit_observables(wanted, [y], [periods]).items()})

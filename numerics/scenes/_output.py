@@ -61,7 +61,7 @@ def _each(draw, items, out: Path, name: str) -> list[str]:
 
 
 def _app(scene, run, out, name):
-    if scene.study == "sweep" and run.route != "series":
+    if scene.study == "sweep":
         from ..plots import plot_app
 
         return _each(plot_app, run.outcomes, out, name)

@@ -8,10 +8,11 @@ from pathlib import Path
 from common import note
 from perturb import FULL
 
-from ._auto import select_effects
+from ._auto import MARGIN, select_effects
 from ._observables import observe
 from ._result import SceneRun
 from ._schema import Scene, read_scene
+from ._series_route import series_row
 from ._studies import SERIES_STUDIES, model_of, run_study
 
 __all__ = ["run_scene"]
@@ -58,12 +59,11 @@ def run_scene(scene: Scene | str | Path, *, out: str | Path | None = None, json:
     """
     scene = scene if isinstance(scene, Scene) else read_scene(scene)
     start = time.perf_counter()
-    rows, selection_note, study, curves = [], "", None, None
+    rows, selection_note, study = [], "", None
     if scene.auto:
         note(f"{scene.title}: measuring what each effect contributes ...", quiet=quiet)
         selection = select_effects(scene, quiet=quiet)
         effects, route, study = selection.effects, selection.route, selection.study
-        curves = selection.observables
         rows, selection_note = selection.rows, selection.note
     else:
         effects = scene.effects
@@ -76,10 +76,12 @@ def run_scene(scene: Scene | str | Path, *, out: str | Path | None = None, json:
     if study is None:  # not run yet (auto has run a sweep's chosen model to check it)
         note(f"{scene.title}: {scene.study} study, {model.effects.describe()} ...", quiet=quiet)
         study = run_study(scene, model, quiet=quiet)
+    curves = observe(scene, study.outcomes, model)
+    if scene.auto and scene.study == "sweep":
+        rows.append(series_row(scene, curves, MARGIN))
     run = SceneRun(title=scene.title, study=scene.study,
                    effects=model.effects.__dict__.copy(), recorder=study.recorder, route=route,
-                   outcomes=study.outcomes,
-                   observables=observe(scene, study.outcomes, model) if curves is None else curves,
+                   outcomes=study.outcomes, observables=curves,
                    selection=rows, selection_note=selection_note, text=study.text, files=[],
                    model=model.as_dict(), settings=scene.as_dict(),
                    elapsed_s=time.perf_counter() - start)

@@ -27,7 +27,8 @@ __all__ = ["Result", "result", "load", "from_dict", "RESULT_CLASSES"]
 
 #: Every result class by name, filled in by ``@result``; ``load`` looks here.
 RESULT_CLASSES: dict[str, type] = {}
-#: Packages whose modules define result classes (imported by ``load`` on demand).
+#: Packages whose modules define result classes (imported by ``load`` on demand; their
+#: names are imported at first use, PEP 562, so ``load`` asks for them by name).
 _PACKAGES = ("perturb", "numerics")
 
 
@@ -131,14 +132,26 @@ def from_dict(data: dict):
     """The result object that ``data`` (an ``as_dict()``) describes."""
     kind = data.get("kind") if isinstance(data, dict) else None
     if kind not in RESULT_CLASSES:
-        for package in _PACKAGES:  # the classes register themselves when imported
-            importlib.import_module(package)
+        _import_result_classes(kind)
     if kind not in RESULT_CLASSES:
         raise ValueError(
             f"not a result of this toolkit: `kind` is {kind!r}; known kinds: "
             f"{sorted(RESULT_CLASSES)}."
         )
     return RESULT_CLASSES[kind].from_dict(data)
+
+
+def _import_result_classes(kind) -> None:
+    """Import the class named ``kind`` (it registers itself), else every public name."""
+    for package in _PACKAGES:
+        module = importlib.import_module(package)
+        if isinstance(kind, str) and kind in module.__all__:
+            getattr(module, kind)
+    if kind not in RESULT_CLASSES:  # a nested result's kind, or none of the toolkit's
+        for package in _PACKAGES:
+            module = importlib.import_module(package)
+            for name in module.__all__:
+                getattr(module, name)
 
 
 def load(path: str | Path):

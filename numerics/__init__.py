@@ -5,22 +5,55 @@ scene asks for; see ``simulate``. Every result object keeps the contract of
 ``common.Result`` (its model and settings, strict JSON, ``load``).
 """
 
+import importlib
+
 from common import Status, load
 
-from ._attractors import Attractor, Census, attractors
-from ._backbone import Backbone, exact_backbone
-from ._codegen import acceleration_source, compiled_kernels
-from ._compare import Comparison, compare
-from ._hysteresis import HysteresisLoop, hysteresis_loop
-from ._lanes import drive_table
-from ._natural_frequency import HeightSweep, natural_frequency_vs_height
-from ._orbits import Orbits
-from ._reference import reference_last_period
-from ._simulate import RECORDABLE, simulate
-from ._simulation import Simulation
-from ._steady import SteadyStates, steady_states
-from ._sweep import Sweep, SweepRun, sweep
-from .scenes import SceneRun, read_scene, run_scene
+# Every name is imported at first use (PEP 562), so that a command loads only what
+# it runs: scipy.optimize (the backbone), sympy (what derives) and the scenes stay
+# out of `python -m numerics sweep`.
+_LAZY = {
+    "Attractor": "._attractors",
+    "Census": "._attractors",
+    "attractors": "._attractors",
+    "Backbone": "._backbone",
+    "exact_backbone": "._backbone",
+    "acceleration_source": "._codegen",
+    "compiled_kernels": "._codegen",
+    "Comparison": "._compare",
+    "compare": "._compare",
+    "HysteresisLoop": "._hysteresis",
+    "hysteresis_loop": "._hysteresis",
+    "drive_table": "._lanes",
+    "HeightSweep": "._natural_frequency",
+    "natural_frequency_vs_height": "._natural_frequency",
+    "Orbits": "._orbits",
+    "reference_last_period": "._reference",
+    "RECORDABLE": "._simulate",
+    "simulate": "._simulate",
+    "Simulation": "._simulation",
+    "SteadyStates": "._steady",
+    "steady_states": "._steady",
+    "Sweep": "._sweep",
+    "SweepRun": "._sweep",
+    "sweep": "._sweep",
+    "SceneRun": ".scenes",
+    "read_scene": ".scenes",
+    "run_scene": ".scenes",
+}
+
+
+def __getattr__(name: str):
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(_LAZY[name], __name__), name)
+    globals()[name] = value  # imported once
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
     "Attractor",

@@ -2,8 +2,11 @@
 
 The acceleration of Eq. 2.4 is taken from ``perturb.ContactModel``,
 lambdified, and written, with the kernels of ``_kernel_template.py``, into
-a module file in a cache folder; numba compiles it and caches the machine
-code beside it, so that a second run (or a second process) pays nothing.
+a module file in the cache folder (``perturb._cache``); numba compiles it and
+caches the machine code beside it, so that a second run (or a second process)
+pays nothing. The file's key is made of the model and the source files that
+shape the kernels, so finding it needs no sympy: a process that has its kernels
+cached imports neither sympy nor anything that derives.
 """
 
 from __future__ import annotations
@@ -11,34 +14,39 @@ from __future__ import annotations
 import hashlib
 import importlib.util
 import inspect
-import os
 import sys
-import tempfile
 import threading
-import warnings
 from pathlib import Path
 from types import ModuleType
-
-import sympy as sp
+from typing import TYPE_CHECKING
 
 from perturb import ContactModel
+from perturb._cache import (
+    MODEL_SOURCES,
+    CacheWarning,
+    cache_dir,
+    cache_key,
+    usable_cache_dir,
+    write_atomically,
+)
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = ["compiled_kernels", "acceleration_source", "cache_dir", "CacheWarning"]
 
-class CacheWarning(UserWarning):
-    """The kernel cache could not be used as configured; a fallback is used instead."""
-
-_FORCE = sp.Symbol("force", real=True)
 _TEMPLATE = Path(__file__).with_name("_kernel_template.py")
+#: The files whose text shapes a kernel module (a change to one generates it again).
+_SOURCES = (*MODEL_SOURCES, Path(__file__), _TEMPLATE)
 _LOADED: dict[tuple, ModuleType] = {}
 _LOCK = threading.Lock()
 
 
-def cache_dir() -> Path:
-    """Folder for generated kernels: $CONTACT_RESONANCES_CACHE or ~/.cache/contact-resonances."""
-    root = os.environ.get("CONTACT_RESONANCES_CACHE")
-    base = Path(root) if root else Path.home() / ".cache" / "contact-resonances"
-    return base / "kernels"
+def _force_symbol() -> sp.Symbol:
+    """The argument that replaces the drive P(t) in the generated acceleration."""
+    import sympy as sp
+
+    return sp.Symbol("force", real=True)
 
 
 def _guard_contact_branch(expr: sp.Expr, y: sp.Symbol) -> sp.Expr:
@@ -47,6 +55,7 @@ def _guard_contact_branch(expr: sp.Expr, y: sp.Symbol) -> sp.Expr:
     Compiled code may evaluate both branches of a conditional; with the guard it
     never raises a negative number to a fractional power (m2 = 1.5, l = 0.5).
     """
+    import sympy as sp
 
     def guard(piecewise: sp.Piecewise) -> sp.Piecewise:
         return sp.Piecewise(*[
@@ -58,9 +67,12 @@ def _guard_contact_branch(expr: sp.Expr, y: sp.Symbol) -> sp.Expr:
 
 
 def _lambdified_source(name: str, expr, model: ContactModel) -> str:
+    import sympy as sp
+
     from perturb import symbols
 
-    function = sp.lambdify((symbols.y, symbols.v, _FORCE), expr, modules="math", cse=True)
+    function = sp.lambdify((symbols.y, symbols.v, _force_symbol()), expr, modules="math",
+                           cse=True)
     body = inspect.getsource(function).replace(function.__name__, name, 1)
     return f"@numba.njit(cache=True, inline='always')\n{body}\n\n"
 
@@ -74,9 +86,11 @@ def acceleration_source(model: ContactModel) -> str:
     by the argument ``force`` (the kernels tabulate it), and every parameter by
     its value.
     """
+    import sympy as sp
+
     from perturb import symbols
 
-    accel = model.numeric_acceleration(_FORCE)
+    accel = model.numeric_acceleration(_force_symbol())
     partials = (sp.diff(accel, symbols.y), sp.diff(accel, symbols.v))
     guard = lambda e: _guard_contact_branch(e, symbols.y)  # noqa: E731
     # lambdify's "math" namespace: its source names math functions unqualified.
@@ -101,16 +115,9 @@ def _module_source(model: ContactModel) -> str:
 
 
 def _cache_key(model: ContactModel) -> str:
-    """A key for the model's kernels that needs no sympy work: the parameters and
-    effects, and the text of every file that shapes the generated source."""
-    import perturb
-
-    shaping = [Path(perturb.__file__).parent / f for f in
-               ("_model.py", "_effects.py", "_parameters.py", "_symbols.py")]
-    shaping += [Path(__file__), _TEMPLATE]
-    text = repr((model.parameters, model.effects, sp.__version__))
-    text += "".join(path.read_text() for path in shaping)
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
+    """A key for the model's kernels that needs no sympy: the parameters and effects,
+    sympy's release, and the text of every file that shapes the generated source."""
+    return cache_key((model.parameters, model.effects), _SOURCES)
 
 
 def compiled_kernels(model: ContactModel) -> ModuleType:
@@ -120,28 +127,6 @@ def compiled_kernels(model: ContactModel) -> ModuleType:
         if memo not in _LOADED:
             _LOADED[memo] = _load(_cache_key(model), model)
         return _LOADED[memo]
-
-
-def _writable(folder: Path) -> bool:
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryFile(dir=folder):
-            return True
-    except OSError:
-        return False
-
-
-def usable_cache_dir() -> Path:
-    """``cache_dir()`` if files can be written there, else a private temporary folder
-    (with a one-line ``CacheWarning``): the kernels still work, they are compiled again."""
-    folder = cache_dir()
-    if _writable(folder):
-        return folder
-    fallback = Path(tempfile.gettempdir()) / f"contact-resonances-{os.getuid()}" / "kernels"
-    warnings.warn(f"kernel cache {str(folder)!r} is not writable; using {str(fallback)!r}",
-                  CacheWarning, stacklevel=3)
-    fallback.mkdir(parents=True, exist_ok=True)
-    return fallback
 
 
 def _checksum(body: str) -> str:
@@ -166,9 +151,7 @@ def _remove(path: Path) -> None:
 
 def _write(path: Path, model: ContactModel) -> None:
     body = _module_source(model)
-    tmp = path.with_suffix(f".tmp{os.getpid()}")
-    tmp.write_text(f"{_checksum(body)}\n{body}")
-    tmp.replace(path)  # atomic, so that parallel processes never read half a file
+    write_atomically(path, f"{_checksum(body)}\n{body}")
 
 
 def _import(path: Path, key: str) -> ModuleType:

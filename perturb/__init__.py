@@ -2,24 +2,21 @@
 
 The physical model of Eq. 2.1-2.4 lives here once (``ContactModel``), with the
 paper's parameter values as defaults (``PAPER``); Eq. 2.6 is derived from it
-(``Eq26``), and its numbers at a parameter set are one object
-(``Eq26Numbers``, from ``eq26_numbers``). The perturbation series of Eq. 2.6 is derived to any order
-(``derive``), printed (``text_report``, ``latex_report``, ``series_json``; step by step
-in the paper's names: ``derivation_text``, ``derivation_latex``),
-compiled (``compile_series``) and solved for the frequency response
-(``frequency_response``); ``backbone_series`` gives the free backbone exactly.
+(``Eq26``), and its numbers at a parameter set are one object (``Eq26Numbers``,
+from ``eq26_numbers``, kept on disk once derived). The perturbation series of
+Eq. 2.6 is derived to any order (``derive``), printed (``text_report``,
+``latex_report``, ``series_json``; step by step in the paper's names:
+``derivation_text``, ``derivation_latex``), compiled (``compile_series``) and
+solved for the frequency response (``frequency_response``); ``backbone_series``
+gives the free backbone exactly.
 """
 
-from . import _series_symbols as series_symbols
-from . import _symbols as symbols
-from ._backbone_series import BackboneSeries, backbone_series
-from ._compiled import CompiledSeries, compile_series
-from ._derivation import derivation_latex, derivation_text
+import importlib
+
+# Light names, imported with the package: none of them imports sympy.
 from ._effects import EQ_2_6, FULL, LINEAR, Effects
-from ._eq26 import Eq26, Eq26Numbers, eq26_numbers
-from ._lindstedt import Series, derive
 from ._model import ContactModel
-from ._paper_names import PAPER_DIFFERENCES, PAPER_NAMES, paper_names
+from ._numbers import Eq26Numbers, eq26_numbers
 from ._parameters import (
     PAPER,
     PAPER_BAND_HZ,
@@ -31,8 +28,46 @@ from ._parameters import (
     ContactParameters,
     parameters_with,
 )
-from ._printing import latex_report, series_json, text_report
-from ._response import Branch, Response, frequency_response
+
+# The symbolic names, imported at first use (PEP 562): sympy takes 0.3 s to import,
+# and a command whose numbers and kernels are cached needs none of them.
+_LAZY = {
+    "series_symbols": ("._series_symbols", None),
+    "symbols": ("._symbols", None),
+    "BackboneSeries": ("._backbone_series", "BackboneSeries"),
+    "backbone_series": ("._backbone_series", "backbone_series"),
+    "CompiledSeries": ("._compiled", "CompiledSeries"),
+    "compile_series": ("._compiled", "compile_series"),
+    "derivation_latex": ("._derivation", "derivation_latex"),
+    "derivation_text": ("._derivation", "derivation_text"),
+    "Eq26": ("._eq26", "Eq26"),
+    "Series": ("._lindstedt", "Series"),
+    "derive": ("._lindstedt", "derive"),
+    "PAPER_DIFFERENCES": ("._paper_names", "PAPER_DIFFERENCES"),
+    "PAPER_NAMES": ("._paper_names", "PAPER_NAMES"),
+    "paper_names": ("._paper_names", "paper_names"),
+    "latex_report": ("._printing", "latex_report"),
+    "series_json": ("._printing", "series_json"),
+    "text_report": ("._printing", "text_report"),
+    "Branch": ("._response", "Branch"),
+    "Response": ("._response", "Response"),
+    "frequency_response": ("._response", "frequency_response"),
+}
+
+
+def __getattr__(name: str):
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    module_name, attribute = _LAZY[name]
+    module = importlib.import_module(module_name, __name__)
+    value = module if attribute is None else getattr(module, attribute)
+    globals()[name] = value  # imported once
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
     "BackboneSeries",

@@ -7,22 +7,23 @@ linearised there (Eq. 2.5). Divided by M, Eq. 2.4 becomes
     u'' + 2c u' + omega0^2 u + eps*h u^2 = G cos(2 pi f_e t)       (Eq. 2.6)
 
 Each coefficient below is a derivative of a force of ``ContactModel``; their
-values at a parameter set are one object, ``Eq26Numbers`` (``eq26_numbers``).
+values at a parameter set are one object, ``Eq26Numbers``: ``derive_numbers``
+derives it, and ``eq26_numbers`` (``_numbers.py``) keeps it on disk.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
-from functools import cache, cached_property, lru_cache
+from functools import cache, cached_property
 
 import sympy as sp
 
 from ._model import ContactModel
+from ._numbers import Eq26Numbers, eq26_numbers
 from ._parameters import PAPER, ContactParameters
 from ._symbols import M, P_a, f_e, g, t, v, y
 
-__all__ = ["Eq26", "Eq26Numbers", "eq26_numbers"]
+__all__ = ["Eq26", "Eq26Numbers", "eq26_numbers", "derive_numbers"]
 
 
 # The symbolic laws do not depend on the parameter values: each derivation below
@@ -47,70 +48,9 @@ def _two_c() -> sp.Expr:
     return sp.simplify(-sp.diff(damping, v).subs(y, model.static_deflection) / M)
 
 
-@dataclass(frozen=True)
-class Eq26Numbers:
-    """The numbers of Eq. 2.6 at one parameter set, in SI units (names: the glossary).
-
-    Attributes
-    ----------
-    y0_m : float
-        Static deflection y0, where the spring carries the weight [m].
-    f_n0_hz : float
-        Natural frequency of the linearised system, omega0 / (2 pi) [Hz].
-    omega0_rad_s : float
-        omega0 [rad/s].
-    Q_n : float
-        Weight Q = M g [N].
-    c_per_s : float
-        c, half the linear damping coefficient over M [1/s].
-    h_per_m_s2 : float
-        eps h, the quadratic stiffness over M [1/(m s^2)].
-    damping_ratio : float
-        c / omega0.
-    G_per_P_a : float
-        G / P_a = 1 / M [1/kg].
-    """
-
-    y0_m: float
-    f_n0_hz: float
-    omega0_rad_s: float
-    Q_n: float
-    c_per_s: float
-    h_per_m_s2: float
-    damping_ratio: float
-    G_per_P_a: float
-
-    @property
-    def fastest_rate_per_s(self) -> float:
-        """The largest |eigenvalue| of the linearised contact, u'' + 2c u' + omega0^2 u:
-        omega0 when underdamped, c + sqrt(c^2 - omega0^2) when overdamped [1/s]. A
-        step resolves the contact where this rate times dt is small."""
-        c, omega0 = self.c_per_s, self.omega0_rad_s
-        return max(omega0, c + math.sqrt(max(c * c - omega0 * omega0, 0.0)))
-
-    def as_dict(self) -> dict[str, float]:
-        """The eight numbers by name, in the order of the fields."""
-        return asdict(self)
-
-
-def eq26_numbers(parameters: ContactParameters = PAPER) -> Eq26Numbers:
-    """The numbers of Eq. 2.6 at ``parameters``, evaluated once per parameter set.
-
-    Examples
-    --------
-    >>> numbers = eq26_numbers()
-    >>> round(numbers.f_n0_hz, 2), round(numbers.y0_m * 1e9, 1)
-    (1485.59, 225.2)
-    >>> list(numbers.as_dict())[:3]
-    ['y0_m', 'f_n0_hz', 'omega0_rad_s']
-    """
-    if not isinstance(parameters, ContactParameters):
-        raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
-    return _numbers(parameters)
-
-
-@lru_cache(maxsize=128)
-def _numbers(parameters: ContactParameters) -> Eq26Numbers:
+def derive_numbers(parameters: ContactParameters = PAPER) -> Eq26Numbers:
+    """The numbers of Eq. 2.6 at ``parameters``, derived by sympy (no cache: this is
+    what ``eq26_numbers`` stores on disk the first time it sees ``parameters``)."""
     eq = Eq26(ContactModel(parameters))
     value = eq.model.evaluate
     omega0 = math.sqrt(value(eq.omega0_squared))

@@ -1,7 +1,9 @@
 """The physical model of Eq. 2.1-2.4 as sympy expressions.
 
 This is the one source of truth: the simulator in ``numerics`` and Eq. 2.6 are
-both generated from the expressions built here.
+both generated from the expressions built here. sympy is imported by the first
+symbolic question, not with the class: a command whose numbers and kernels are
+cached on disk (``_cache.py``) builds, compares and records models without it.
 """
 
 from __future__ import annotations
@@ -9,29 +11,34 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Mapping
 from functools import cache, cached_property, lru_cache
-
-import sympy as sp
+from typing import TYPE_CHECKING
 
 from common import check_keys
 
 from ._effects import FULL, Effects
 from ._parameters import PAPER, ContactParameters
-from ._symbols import PARAMETER_SYMBOLS, M, P_a, S, c_n, f_e, g, h_n, l, m2, t, v, y
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = ["ContactModel", "exact_number"]
 
 
 def exact_number(value: float) -> sp.Expr:
     """A sympy number for a parameter value: exact for integer and decimal exponents."""
+    import sympy as sp
+
     rational = sp.Rational(repr(float(value)))
     return sp.Integer(rational) if rational.q == 1 else rational
 
 
 @cache
 def _static_deflection() -> sp.Expr:
-    # Solved once: the expression does not depend on the parameter values.
-    (root,) = sp.solve(sp.Eq(S * c_n * y**m2, M * g), y)
-    return root
+    """y0 solving S c_n y0^m2 = M g, in closed form (sympy.solve gives the same
+    expression in 0.3 s; tests/test_startup.py substitutes it back)."""
+    from ._symbols import M, S, c_n, g, m2
+
+    return (M * g / (S * c_n)) ** (1 / m2)
 
 
 class ContactModel:
@@ -87,6 +94,10 @@ class ContactModel:
     @cached_property
     def values(self) -> dict[sp.Symbol, sp.Expr]:
         """Substitution of the parameter symbols by the parameter values."""
+        import sympy as sp
+
+        from ._symbols import PARAMETER_SYMBOLS
+
         return {
             PARAMETER_SYMBOLS[name]: (
                 exact_number(value) if name in ("m2", "l") else sp.Float(value, 17)
@@ -96,6 +107,8 @@ class ContactModel:
 
     def evaluate(self, expr: sp.Expr) -> float:
         """Evaluate an expression of the parameter symbols at the parameter values."""
+        import sympy as sp
+
         return float(sp.N(sp.sympify(expr).subs(self.values), 17))
 
     # -- Eq. 2.1: the contact laws ----------------------------------------
@@ -107,15 +120,21 @@ class ContactModel:
     @staticmethod
     def power_spring(deflection: sp.Expr) -> sp.Expr:
         """F_s = -S c_n delta^m2 (Eq. 2.1)."""
+        from ._symbols import S, c_n, m2
+
         return -S * c_n * deflection**m2
 
     @staticmethod
     def power_damping(deflection: sp.Expr, velocity: sp.Expr) -> sp.Expr:
         """F_d = -S h_n delta^l ydot (Eq. 2.1)."""
+        from ._symbols import S, h_n, l
+
         return -S * h_n * deflection**l * velocity
 
     def spring_law(self, deflection: sp.Expr) -> sp.Expr:
         """The spring force in contact, for the chosen spring law (Eq. 2.1, 2.5)."""
+        from ._symbols import y
+
         if self.effects.spring == "power":
             return self.power_spring(deflection)
         degree = 1 if self.effects.spring == "linear" else self.effects.taylor_degree
@@ -123,6 +142,10 @@ class ContactModel:
 
     def taylor_polynomial(self, law, degree: int) -> sp.Expr:
         """Taylor polynomial of ``law(y)`` about y0, in y, to ``degree`` (Eq. 2.5)."""
+        import sympy as sp
+
+        from ._symbols import y
+
         y0 = self.static_deflection
         return sum(
             sp.simplify(sp.diff(law(y), y, k).subs(y, y0) / sp.factorial(k)) * (y - y0) ** k
@@ -137,6 +160,10 @@ class ContactModel:
 
     def contact_force(self) -> sp.Expr:
         """The reaction R = F_s + F_d, gated at y = 0 when contact can be lost."""
+        import sympy as sp
+
+        from ._symbols import v, y
+
         law = self.spring_law(y) + self.damping_law(y, v)
         if not self.effects.contact_loss:
             return law
@@ -146,11 +173,19 @@ class ContactModel:
     @property
     def gravity_force(self) -> sp.Expr:
         """Q = M g (Eq. 2.2), or 0 when gravity is switched off."""
+        import sympy as sp
+
+        from ._symbols import M, g
+
         return M * g if self.effects.gravity else sp.Integer(0)
 
     @property
     def drive(self) -> sp.Expr:
         """P = P_a cos(2 pi f_e t) (Eq. 2.2)."""
+        import sympy as sp
+
+        from ._symbols import P_a, f_e, t
+
         return P_a * sp.cos(2 * sp.pi * f_e * t)
 
     def acceleration(self, force: sp.Expr | None = None) -> sp.Expr:
@@ -158,6 +193,8 @@ class ContactModel:
 
         ``force`` replaces the drive P (the simulator tabulates it).
         """
+        from ._symbols import M
+
         drive = self.drive if force is None else force
         return (self.contact_force() + self.gravity_force + drive) / M
 
@@ -177,7 +214,7 @@ class ContactModel:
     @classmethod
     def from_dict(cls, data: Mapping) -> ContactModel:
         """The model that ``as_dict`` described; a ValueError names a missing or unknown key."""
-        from ._eq26 import Eq26Numbers
+        from ._numbers import Eq26Numbers
 
         if isinstance(data, Mapping):  # the numbers of Eq. 2.6 are derived: not read back
             derived = {f.name for f in dataclasses.fields(Eq26Numbers)}
@@ -202,7 +239,7 @@ class ContactModel:
 
 @lru_cache(maxsize=64)
 def _model_record(parameters: ContactParameters, effects: Effects) -> dict:
-    from ._eq26 import eq26_numbers
+    from ._numbers import eq26_numbers
 
     return {"parameters": parameters.as_dict(), "effects": dataclasses.asdict(effects),
             **eq26_numbers(parameters).as_dict()}

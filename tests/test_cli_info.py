@@ -14,9 +14,10 @@ S, C_N, M2, H_N, L, M, G = 0.0009, 4.52693e16, 2.0, 3.5e11, 1.0, 0.2106, 9.81
 LANDED = {"y0_m", "f_n0_hz", "omega0_rad_s", "Q_n", "c_per_s", "h_per_m_s2", "damping_ratio"}
 
 
-def closed_forms() -> dict[str, float]:
+def closed_forms(S=S, C_N=C_N, M2=M2, H_N=H_N, L=L, M=M, G=G) -> dict[str, float]:
     """Eq. 2.6's numbers by hand: y0 = (M g / (S c_n))^(1/m2), omega0^2 = S c_n m2
-    y0^(m2-1) / M, 2c = S h_n y0^l / M, eps h = S c_n m2 (m2-1) y0^(m2-2) / (2 M)."""
+    y0^(m2-1) / M, 2c = S h_n y0^l / M, eps h = S c_n m2 (m2-1) y0^(m2-2) / (2 M);
+    at the paper's values unless others are given."""
     y0 = (M * G / (S * C_N)) ** (1 / M2)
     omega0 = math.sqrt(S * C_N * M2 * y0 ** (M2 - 1) / M)
     c = S * H_N * y0**L / (2 * M)

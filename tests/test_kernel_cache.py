@@ -1,20 +1,41 @@
-"""The kernel cache on disk: a broken file is rebuilt, an unwritable folder is replaced.
+"""The cache on disk: a broken file is rebuilt, an unwritable folder is replaced, and
+the cached numbers of Eq. 2.6 are the ones sympy derives.
 
 Regression (issue 10): a truncated or empty cached kernel file used to give a
 SyntaxError or AttributeError in every later run, a garbled numba cache an
 UnpicklingError in every later run, and an unwritable cache folder a traceback.
 The tests of the source file skip the first calls of the kernels (which compile
 them); the test of numba's cache compiles the linear model's kernels twice.
+
+Issue 12: the numbers of Eq. 2.6 are cached too (``perturb._numbers``), so that a
+warm command never imports sympy; they must be exactly what sympy derives, for the
+paper's model and another one, and a damaged numbers file is derived again.
 """
 
+import json
 import warnings
 
 import pytest
 
 from numerics import _codegen
-from perturb import LINEAR, ContactModel
+from perturb import (
+    EQ_2_6,
+    LINEAR,
+    PAPER,
+    ContactModel,
+    _cache,
+    _eq26,
+    _numbers,
+    eq26_numbers,
+    parameters_with,
+)
+from perturb._cache import _writable
+
+from .test_cli_info import closed_forms
 
 MODEL = ContactModel(effects=LINEAR)
+#: A rough contact unlike the paper's: fractional exponents of both laws.
+OTHER = parameters_with({"m2": 1.5, "l": 0.5})
 
 
 @pytest.fixture
@@ -58,12 +79,13 @@ def test_an_intact_file_that_does_not_import_is_rebuilt(cache, no_first_calls):
 
 def test_an_unwritable_cache_folder_falls_back_with_one_warning(monkeypatch):
     monkeypatch.setenv("CONTACT_RESONANCES_CACHE", "/proc/contact-resonances")
+    monkeypatch.setattr(_cache, "_WARNED", set())  # the warning comes once per process
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         folder = _codegen.usable_cache_dir()
     assert [w.category for w in caught] == [_codegen.CacheWarning]
     assert "not writable" in str(caught[0].message)
-    assert _codegen._writable(folder) and not str(folder).startswith("/proc")
+    assert _writable(folder) and not str(folder).startswith("/proc")
 
 
 def test_a_garbled_numba_cache_is_rebuilt(cache):
@@ -78,3 +100,69 @@ def test_a_garbled_numba_cache_is_rebuilt(cache):
     module = _codegen._load(key, MODEL)
     assert callable(module.advance_periods)
     assert all(p.read_bytes() != b"garbage" for p in cache.glob("__pycache__/*.nb*"))
+
+
+@pytest.fixture
+def fresh_numbers(cache):
+    """An empty cache and no numbers remembered by this process."""
+    _numbers._numbers.cache_clear()
+    yield cache
+    _numbers._numbers.cache_clear()
+
+
+def _derived_again(parameters):
+    raise AssertionError(f"derived again for {parameters!r}, not read from the cache")
+
+
+@pytest.mark.parametrize("parameters", [PAPER, OTHER], ids=["paper", "m2=1.5,l=0.5"])
+def test_cached_numbers_are_the_sympy_derivation(parameters, fresh_numbers, monkeypatch):
+    derived = _eq26.derive_numbers(parameters)  # sympy, no cache
+    first = eq26_numbers(parameters)  # derived and written
+    assert _numbers.numbers_path(parameters).exists()
+    _numbers._numbers.cache_clear()
+    monkeypatch.setattr(_eq26, "derive_numbers", _derived_again)
+    read = eq26_numbers(parameters)
+    # JSON writes a float's shortest repr, which reads back to the same float: exact.
+    assert read == first == derived
+    # And against the closed forms typed by hand (rounding of a few float operations).
+    by_hand = closed_forms(**dict(zip(("S", "C_N", "M2", "H_N", "L", "M", "G"),
+                                      parameters.as_dict().values())))
+    for key, value in read.as_dict().items():
+        assert value == pytest.approx(by_hand[key], rel=1e-13), key
+
+
+def test_numbers_are_keyed_by_the_parameters_and_kernels_by_the_effects_too(fresh_numbers):
+    # Eq. 2.6's numbers do not depend on the effects (one file serves every reduced
+    # model of a parameter set); the kernels do.
+    assert _numbers.numbers_path(PAPER) != _numbers.numbers_path(OTHER)
+    keys = {_codegen._cache_key(ContactModel(PAPER, effects)) for effects in (LINEAR, EQ_2_6)}
+    assert len(keys) == 2
+
+
+@pytest.mark.parametrize("damage", ["truncated", "emptied", "other parameters", "not finite"])
+def test_a_damaged_numbers_file_is_derived_again(damage, fresh_numbers):
+    expected = eq26_numbers(OTHER)
+    path = _numbers.numbers_path(OTHER)
+    text = path.read_text()
+    record = json.loads(text)
+    if damage == "other parameters":
+        record["parameters"]["M"] *= 2
+    if damage == "not finite":
+        record["numbers"]["y0_m"] = None
+    broken = {"truncated": text[: len(text) // 2], "emptied": ""}.get(damage, json.dumps(record))
+    path.write_text(broken)
+    _numbers._numbers.cache_clear()
+    assert eq26_numbers(OTHER) == expected
+    assert json.loads(path.read_text()) == json.loads(text)  # written again
+
+
+def test_numbers_in_an_unwritable_cache_folder(monkeypatch):
+    monkeypatch.setenv("CONTACT_RESONANCES_CACHE", "/proc/contact-resonances-numbers")
+    monkeypatch.setattr(_cache, "_WARNED", set())
+    _numbers._numbers.cache_clear()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        numbers = eq26_numbers(OTHER)
+    _numbers._numbers.cache_clear()
+    assert [w.category for w in caught] == [_codegen.CacheWarning]
+    assert numbers == _eq26.derive_numbers(OTHER)

@@ -6,17 +6,23 @@ import argparse
 
 from common import int_at_least, note, output_file, positive_float, write_json
 
-from .._backbone import MAX_POINTS
 from ._model import add_model_option, model_parameters
 
 __all__ = ["add_backbone_parser"]
+
+
+def _points(text: str) -> int:
+    """--points: an integer from 1 to the backbone's MAX_POINTS."""
+    from .._backbone import MAX_POINTS  # scipy only when this command is parsed
+
+    return int_at_least(1, MAX_POINTS)(text)
 
 
 def add_backbone_parser(sub) -> None:
     parser = sub.add_parser(
         "backbone", help="exact frequency of free oscillation against amplitude"
     )
-    parser.add_argument("--points", type=int_at_least(1, MAX_POINTS), default=200, metavar="N",
+    parser.add_argument("--points", type=_points, default=200, metavar="N",
                         help="energy levels, log-spaced, >= 1 (default 200)")
     parser.add_argument("--app-min", type=positive_float, metavar="M",
                         help="least A_pp [m]; with --app-max, the levels run from A_pp = "

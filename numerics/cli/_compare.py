@@ -6,8 +6,6 @@ import argparse
 
 from common import int_at_least, nonnegative_float, output_file
 
-from .._compare import compare
-
 __all__ = ["add_compare_parser"]
 
 
@@ -29,6 +27,8 @@ def add_compare_parser(sub) -> None:
 
 
 def _compare(args: argparse.Namespace) -> int:
+    from .._compare import compare  # sympy and scipy only for this command
+
     # --orders and --pa-frac are checked by their argparse types (exit 2, naming
     # the option); compare() checks them again for callers from Python.
     result = compare(sorted(set(args.orders)), sorted(set(args.pa_frac)), quiet=args.quiet)

@@ -114,8 +114,12 @@ def static_deflection(y0_m) -> float | None:
 
 
 def plot_spectrum(harmonic_amplitude_m, path: str | Path | None = None, *,
-                  frequency_hz=None, log: bool | None = None, title: str = "") -> Figure:
+                  frequency_hz=None, log: bool | None = None, title: str = "",
+                  periods: int = 1) -> Figure:
     """Amplitudes of the harmonics k = 0, 1, 2, ... of one period of y, in nm.
+
+    A spectrum of ``periods`` = p excitation periods (an orbit of period p, or a
+    recorded time history) has its harmonic k at k f_e / p; the axis says so.
 
     A 1-D array (index = k) is drawn as bars; k = 0, the mean offset of y, is drawn
     hatched and grey, and labelled with its value. The y axis is logarithmic when
@@ -136,6 +140,8 @@ def plot_spectrum(harmonic_amplitude_m, path: str | Path | None = None, *,
     ...                        frequency_hz=[1000.0, 1400.0])
     >>> [line.get_label() for line in over_f.axes[0].lines]
     ['k = 1 (f_e)', 'k = 2 (2 f_e)']
+    >>> plot_spectrum([230e-9, 1e-9, 150e-9], periods=2).axes[0].get_xlabel()
+    'harmonic $k$ (frequency $k f_e / 2$)'
     """
     amplitude = finite_2d("harmonic_amplitude_m", harmonic_amplitude_m, missing=True)
     if amplitude.ndim == 2:
@@ -159,9 +165,13 @@ def plot_spectrum(harmonic_amplitude_m, path: str | Path | None = None, *,
         if shown.size:
             ax.set_ylim(bottom=shown.min() / 3)
     ax.xaxis.set_major_locator(MaxNLocator(integer=True))
-    ax.set_xlabel("harmonic $k$ (frequency $k f_e$)")
+    if periods == 1:
+        ax.set_xlabel("harmonic $k$ (frequency $k f_e$)")
+    else:
+        ax.set_xlabel(f"harmonic $k$ (frequency $k f_e / {periods}$)")
     ax.set_ylabel("amplitude [nm]")
-    ax.set_title(title or "Spectrum of one period of $y$")
+    ax.set_title(title or ("Spectrum of one period of $y$" if periods == 1 else
+                           f"Spectrum of {periods} excitation periods of $y$"))
     ax.legend(fontsize="small")
     return finish(figure, path)
 

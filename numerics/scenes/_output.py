@@ -93,7 +93,10 @@ def _spectrum(scene, run, out, name):
         return [name]
     curve = run.observables[0]
     spectra = curve["spectrum_m"]
-    plot_spectrum(np.asarray(spectra), out / name, title=f"harmonics of y: {curve['label']}")
+    # An attractor's spectrum spans its period p, a time history's its recorded periods.
+    periods = int(curve.get("period", scene.options.get("record_periods", 1)))
+    plot_spectrum(np.asarray(spectra), out / name, title=f"harmonics of y: {curve['label']}",
+                  periods=periods)
     return [name]
 
 

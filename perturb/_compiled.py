@@ -196,6 +196,14 @@ def compile_series(order: int) -> CompiledSeries:
     """
     series = derive(order)
     steps = tuple(_compile_step(symbol, expr) for symbol, expr in complex_chain(series))
-    b_orders = tuple(n for n in range(1, series.order + 1) if series.has_b(n))
-    keys = tuple((n, k) for n in range(series.order + 1) for k in series.harmonics(n))
-    return CompiledSeries(series.order, b_orders, keys, steps)
+    return CompiledSeries(series.order, series_b_orders(series), series_keys(series), steps)
+
+
+def series_b_orders(series: Series) -> tuple[int, ...]:
+    """The n of the non-zero b_n of ``series``, increasing."""
+    return tuple(n for n in range(1, series.order + 1) if series.has_b(n))
+
+
+def series_keys(series: Series) -> tuple[tuple[int, int], ...]:
+    """The (n, k) of every harmonic of ``series``, by order then harmonic."""
+    return tuple((n, k) for n in range(series.order + 1) for k in series.harmonics(n))

@@ -2,9 +2,14 @@
 
 Two independent routes: the compiled perturbation series (roots of the
 frequency equation, App of the reconstructed u(t)) and a fixed-step RK4 of the
-Eq. 2.6 model (``numerics.simulate``), run to a steady state from rest.
+Eq. 2.6 model (``numerics.simulate``), run to a steady state from rest. And
+the compiled route against the numpy route it replaced (issue 12), kept in
+``tests/_response_reference.py``.
 """
 
+import functools
+import subprocess
+import sys
 import warnings
 
 import numpy as np
@@ -13,12 +18,20 @@ import pytest
 from numerics import simulate
 from perturb import (
     EQ_2_6,
+    PAPER_BAND_HZ,
     PAPER_F_N0_HZ,
     ContactModel,
+    _response_codegen,
     compile_series,
     eq26_numbers,
     frequency_response,
 )
+from perturb._response_codegen import series_kernels
+
+from ._response_reference import reference_response
+
+#: The compiled route, held to the numpy route (``reference_response``) below.
+compiled_response = functools.partial(frequency_response, engine="compiled")
 
 VALUES = eq26_numbers()
 PA_FRAC = 0.05
@@ -286,3 +299,149 @@ def test_no_force_is_rest(order):
     (branch,) = response.branches
     assert branch.app_m.tolist() == [0.0, 0.0] and branch.valid.all()
     assert branch.omega_rad_s.tolist() == [VALUES.omega0_rad_s] * 2
+
+
+# --- Issue 12: the compiled route against today's ---------------------------------
+
+
+def assert_same_response(new, old):
+    """Same branches at every frequency, same roots, validity and App (where valid)."""
+    np.testing.assert_array_equal(new.roots_per_frequency(), old.roots_per_frequency())
+    assert len(new.branches) == len(old.branches)
+    for a, b in zip(new.branches, old.branches):
+        np.testing.assert_array_equal(a.frequency_hz, b.frequency_hz)
+        # Both routes stop the root search at |hi - lo| <= 1e-13 omega; measured at
+        # most 1.0e-13 apart on the grids below (the issue's bar: 1e-10).
+        np.testing.assert_allclose(a.omega_rad_s, b.omega_rad_s, rtol=1e-12, atol=0)
+        np.testing.assert_array_equal(a.valid, b.valid)
+        np.testing.assert_array_equal(np.isnan(a.error_estimate), np.isnan(b.error_estimate))
+        # Valid App: measured at most 2.5e-12 apart (the residual's operations come in
+        # another order). Far from valid, where the series diverges, App moves by up
+        # to 4e-9 between roots 1e-13 apart, so it is not held there.
+        np.testing.assert_allclose(a.app_m[b.valid], b.app_m[b.valid], rtol=1e-11, atol=0)
+
+
+#: The paper comparison's frequencies (``numerics.compare``: the band in 5 Hz steps).
+PAPER_GRID_HZ = np.arange(PAPER_BAND_HZ[0], PAPER_BAND_HZ[1] + 1.0, 5.0)
+
+
+@pytest.mark.parametrize("order", [2, 4, 6])
+@pytest.mark.parametrize("pa_frac", [0.05, 0.2, 0.5, 1.0])
+def test_the_compiled_response_is_todays(order, pa_frac):
+    # Issue 12: the response moved to compiled code; today's numpy route is the
+    # reference, on the issue's grid of orders and amplitudes.
+    assert_same_response(compiled_response(PAPER_GRID_HZ, pa_frac, order),
+                         reference_response(PAPER_GRID_HZ, pa_frac, order))
+
+
+@pytest.mark.parametrize("order", [1, 3])
+def test_the_compiled_response_is_todays_at_odd_orders(order):
+    # At odd N, order N+1 has a frequency equation of its own (b_(N+1) != 0), and
+    # its roots are searched from order N's (the other branch of truncation_error).
+    assert_same_response(compiled_response(PAPER_GRID_HZ, 0.3, order),
+                         reference_response(PAPER_GRID_HZ, 0.3, order))
+
+
+def test_the_compiled_response_is_todays_at_10000_frequencies():
+    # The benchmark's case; its fine grid passes the close root pairs of the fold
+    # at 1394-1396 Hz, which only the dips of |residual| find.
+    f = np.linspace(*PAPER_BAND_HZ, 10_000)
+    new, old = compiled_response(f, PA_FRAC, 6), reference_response(f, PA_FRAC, 6)
+    assert_same_response(new, old)
+    assert np.sum(new.roots_per_frequency() == 3) > 100
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("order", [2, 4, 6])
+@pytest.mark.parametrize("pa_frac", [0.05, 0.1, 0.15, 0.2, 0.3, 0.5, 1.0])
+def test_the_compiled_response_is_todays_at_10000_frequencies_everywhere(order, pa_frac):
+    f = np.linspace(*PAPER_BAND_HZ, 10_000)
+    assert_same_response(compiled_response(f, pa_frac, order),
+                         reference_response(f, pa_frac, order))
+
+
+def test_the_comparison_can_fail():
+    # Negative control: a tighter tolerance changes validity flags, and order 8's
+    # roots lie some 1e-5 from order 6's; the comparison must see both.
+    f = np.linspace(1440.0, 1480.0, 41)  # one root each, at both orders
+    old = reference_response(f, PA_FRAC, 6)
+    with pytest.raises(AssertionError, match="Arrays are not equal"):
+        assert_same_response(compiled_response(f, PA_FRAC, 6, tolerance=1e-4), old)
+    with pytest.raises(AssertionError, match="Not equal to tolerance"):
+        assert_same_response(compiled_response(f, PA_FRAC, 8), old)
+
+
+@pytest.mark.parametrize("order", [0, 3, 6])
+def test_the_generated_code_is_the_lambdified_series(order):
+    # Two routes from one chain (complex_chain): the generated straight-line code and
+    # sympy's lambdify, at random points of the band at 0.2 Q.
+    rng = np.random.default_rng(12)
+    omega = rng.uniform(0.6, 1.2, 2000) * VALUES.omega0_rad_s
+    Omega = 2 * np.pi * rng.uniform(*PAPER_BAND_HZ, 2000)
+    G, c, h = 0.2 * VALUES.Q_n * VALUES.G_per_P_a, VALUES.c_per_s, VALUES.h_per_m_s2
+    kernels = series_kernels(order)
+    residual = np.empty(omega.size)
+    kernels.residual_lanes(G, omega, Omega, c, h, VALUES.omega0_rad_s, residual)
+    a0 = G / np.hypot(omega**2 - Omega**2, 2 * c * Omega)
+    shift = compile_series(order).frequency_shift(a0, omega, Omega, c, h)
+    # Measured: at most 2.6e-13 relative (orders 0-8).
+    np.testing.assert_allclose(residual, omega**2 - VALUES.omega0_rad_s**2 - shift, rtol=2e-12)
+    shape = (3, kernels.TOP_HARMONIC + 1, omega.size)
+    real, imag = np.empty(shape), np.empty(shape)
+    kernels.harmonics_lanes(a0, omega, Omega, c, h, real, imag)
+    for m in range(3):  # orders N, N+1, N+2
+        series = compile_series(order + m)
+        expected = series.harmonics(series.amplitudes(a0, omega, Omega, c, h))
+        got = (real[m] + 1j * imag[m]).T
+        # Measured: at most 1e-13 of the largest harmonic; higher harmonics are zero.
+        scale = np.abs(expected).max()
+        np.testing.assert_allclose(got[:, :expected.shape[1]], expected, rtol=0, atol=1e-12 * scale)
+        assert not got[:, expected.shape[1]:].any()
+
+
+def test_a_response_with_its_kernels_cached_needs_no_sympy():
+    # Issue 12: the compiled response reads its kernels (and the numbers of Eq. 2.6)
+    # from the cache; a new process does not derive them again.
+    compiled_response(np.array([800.0, 1420.0]), PA_FRAC, 6)  # builds the kernels
+    code = ("import sys, numpy as np; from perturb import frequency_response;"
+            "frequency_response(np.array([800.0, 1420.0]), 0.05, 6);"
+            "print('sympy' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout
+    assert out.strip() == "False"
+
+
+@pytest.fixture
+def empty_series_cache(tmp_path, monkeypatch):
+    """An empty cache folder, and no series kernels loaded by this process."""
+    monkeypatch.setenv("CONTACT_RESONANCES_CACHE", str(tmp_path))
+    monkeypatch.setattr(_response_codegen, "_LOADED", {})
+    return tmp_path / "kernels"
+
+
+@pytest.mark.slow
+def test_a_damaged_series_cache_is_rebuilt(empty_series_cache):
+    # Compiles order 0 three times (some 10 s each on the shared machine).
+    cache = empty_series_cache
+    reference = series_kernels(0)
+    (source,) = cache.glob("series_*.py")
+    source.write_text(source.read_text()[:500])  # cut short
+    _response_codegen._LOADED.clear()
+    assert series_kernels(0) is not reference
+    numba_files = list(cache.glob("__pycache__/series_*.nb*"))
+    assert numba_files
+    for path in numba_files:
+        path.write_bytes(b"garbage")
+    _response_codegen._LOADED.clear()
+    rebuilt = series_kernels(0)
+    assert all(p.read_bytes() != b"garbage" for p in cache.glob("__pycache__/series_*.nb*"))
+    f = np.array([800.0, 1420.0])
+    assert_same_response(compiled_response(f, PA_FRAC, 0), reference_response(f, PA_FRAC, 0))
+    assert callable(rebuilt.find_roots)
+
+
+def test_auto_answers_from_numpy_until_the_kernels_are_built(empty_series_cache):
+    # Building an order's kernels takes 10-20 s: "auto" does not pay it for a call.
+    f = np.array([800.0, 1420.0])
+    assert_same_response(frequency_response(f, PA_FRAC, 3), reference_response(f, PA_FRAC, 3))
+    assert not list(empty_series_cache.glob("series_*.py"))

@@ -1,0 +1,18 @@
+"""The numpy route of the analytic response, the reference of the compiled one (issue 12).
+
+``perturb/_response_numpy.py`` is ``perturb._response`` as it was before the
+frequency equation was compiled (commit f60ea91); ``reference_response`` runs
+``frequency_response`` on it. ``tests/test_perturb_response.py`` holds the
+compiled route to it (same branches, roots, validity), and
+``tests/benchmarks/bench_perturb.py`` times the two in the same run.
+"""
+
+from __future__ import annotations
+
+from perturb import frequency_response
+from perturb._response import Response
+
+
+def reference_response(frequency_hz, pa_frac: float, order: int = 6, **options) -> Response:
+    """``frequency_response`` by the numpy route."""
+    return frequency_response(frequency_hz, pa_frac, order, engine="numpy", **options)

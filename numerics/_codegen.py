@@ -36,8 +36,11 @@ if TYPE_CHECKING:
 __all__ = ["compiled_kernels", "acceleration_source", "cache_dir", "CacheWarning"]
 
 _TEMPLATE = Path(__file__).with_name("_kernel_template.py")
+#: The compiled sweep, appended after the kernels (it reads _steady's constants).
+_SWEEP_TEMPLATE = Path(__file__).with_name("_sweep_template.py")
 #: The files whose text shapes a kernel module (a change to one generates it again).
-_SOURCES = (*MODEL_SOURCES, Path(__file__), _TEMPLATE)
+_SOURCES = (*MODEL_SOURCES, Path(__file__), _TEMPLATE, _SWEEP_TEMPLATE,
+            Path(__file__).with_name("_steady.py"))
 _LOADED: dict[tuple, ModuleType] = {}
 _LOCK = threading.Lock()
 
@@ -111,6 +114,8 @@ def _module_source(model: ContactModel) -> str:
         + acceleration_source(model)
         + "\n\n"
         + template[imports_end:]
+        + "\n\n"
+        + _SWEEP_TEMPLATE.read_text()
     )
 
 
@@ -127,6 +132,13 @@ def compiled_kernels(model: ContactModel) -> ModuleType:
         if memo not in _LOADED:
             _LOADED[memo] = _load(_cache_key(model), model)
         return _LOADED[memo]
+
+
+def sweep_driver_built(model: ContactModel) -> bool:
+    """Whether the compiled sweep driver of ``model`` is in the cache (numba's index file
+    of ``sweep_lanes`` beside the module): compiling it takes some 25-40 s once."""
+    path = usable_cache_dir() / f"kernel_{_cache_key(model)}.py"
+    return _intact(path) and any(path.parent.glob(f"__pycache__/{path.stem}.sweep_lanes-*.nbi"))
 
 
 def _checksum(body: str) -> str:

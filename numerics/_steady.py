@@ -347,14 +347,11 @@ def steady_states(
     >>> [f"{a * 1e9:.2f} nm" for a in found.app_m]
     ['20.58 nm', '211.48 nm']
     """
-    check_choice("method", method, ("newton", "march"))
     model = check_model(model)
-    max_periods = None if max_periods is None else check_int("max_periods", max_periods)
-    refinements = check_int("refinements", refinements, minimum=0, maximum=_MAX_REFINEMENTS,
-                            why="each doubles the steps")
-    check_steps(steps_per_period, refinements)
-    tol = check_positive("tol", tol)
-    app_rtol = None if app_rtol is None else check_positive("app_rtol", app_rtol)
+    accuracy = check_accuracy(steps_per_period=steps_per_period, tol=tol, app_rtol=app_rtol,
+                              max_periods=max_periods, method=method, refinements=refinements)
+    tol, app_rtol = accuracy["tol"], accuracy["app_rtol"]
+    max_periods, refinements = accuracy["max_periods"], accuracy["refinements"]
     guesses = np.atleast_1d(np.asarray(period_guess))
     if not np.isin(guesses, PERIODS_TRIED).all():
         raise ValueError(f"`period_guess` must be one of {PERIODS_TRIED}, got {period_guess!r}.")
@@ -364,11 +361,7 @@ def steady_states(
     start = time.perf_counter()
     numbers = eq26_numbers(model.parameters)
     steps = lane_steps(steps_per_period, f_e, numbers.fastest_rate_per_s)
-    if max_periods is None:  # the settling cap is a time: _DECAY_TIMES decay times 1/c
-        cap = np.clip(np.ceil(_DECAY_TIMES * f_e / numbers.c_per_s), *_CAP_PERIODS)
-    else:
-        cap = np.full(f_e.shape, max_periods)
-    cap = cap.astype(np.int64)
+    cap = settling_cap(f_e, numbers, max_periods)
     solve = dict(model=model, tol=tol, app_rtol=app_rtol, cap=cap, method=method,
                  continuation=app_guess_m is not None, keep_orbits=keep_orbits)
     lanes = np.arange(f_e.shape[0])
@@ -395,6 +388,20 @@ MAX_STEPS = 2**20
 _MAX_REFINEMENTS = 8
 
 
+def check_accuracy(*, steps_per_period, tol, app_rtol, max_periods, method,
+                   refinements) -> dict:
+    """``steady_states``' accuracy settings, checked (a ValueError names a bad one)."""
+    check_choice("method", method, ("newton", "march"))
+    refinements = check_int("refinements", refinements, minimum=0, maximum=_MAX_REFINEMENTS,
+                            why="each doubles the steps")
+    check_steps(steps_per_period, refinements)
+    return {"steps_per_period": steps_per_period, "tol": check_positive("tol", tol),
+            "app_rtol": None if app_rtol is None else check_positive("app_rtol", app_rtol),
+            "max_periods": None if max_periods is None else check_int("max_periods",
+                                                                      max_periods),
+            "method": method, "refinements": refinements}
+
+
 def check_steps(steps_per_period, refinements: int = 0) -> None:
     """``"auto"`` or an integer >= 4 whose refinements stay within MAX_STEPS, or a
     ValueError naming the argument."""
@@ -402,6 +409,16 @@ def check_steps(steps_per_period, refinements: int = 0) -> None:
         check_int("steps_per_period", steps_per_period, minimum=4,
                   maximum=MAX_STEPS // 2**refinements,
                   why=f"with {refinements} refinement(s) doubling it, at most {MAX_STEPS}")
+
+
+def settling_cap(frequency_hz: np.ndarray, numbers, max_periods: int | None) -> np.ndarray:
+    """Each lane's cap of time marching in periods: ``max_periods``, or by default a
+    time, _DECAY_TIMES decay times 1/c (``numbers``: Eq26Numbers), within _CAP_PERIODS."""
+    if max_periods is None:
+        cap = np.clip(np.ceil(_DECAY_TIMES * frequency_hz / numbers.c_per_s), *_CAP_PERIODS)
+    else:
+        cap = np.full(frequency_hz.shape, max_periods)
+    return cap.astype(np.int64)
 
 
 def lane_steps(steps_per_period, frequency_hz: np.ndarray, rate_per_s: float) -> np.ndarray:
@@ -430,7 +447,11 @@ def _solve_by_steps(lanes, steps, f_e, p_a, y, v, guess, span, **solve) -> Orbit
 
 def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, cap, method,
            continuation, keep_orbits) -> Orbits:
-    """One pass at a fixed step: Newton continuation, then marching and polishing."""
+    """One pass at a fixed step: Newton continuation, then marching and polishing.
+
+    A sweep runs the compiled twin of this pass and of what it calls
+    (``_sweep_template._solve``): a change here is made there too, and
+    tests/test_sweep_compiled.py holds the two equal."""
     f_e, p_a, y, v, guess, span, cap = (a[lanes] for a in (f_e, p_a, y, v, guess, span, cap))
     # A bounded time: no more than _LANE_STEP_BUDGET steps per lane in this pass.
     cap = np.minimum(cap, max(_LANE_STEP_BUDGET // steps, _CHUNK))
@@ -485,13 +506,8 @@ def _fate(state: Orbits, batch: _Batch, failed_period, cap: np.ndarray,
     coarse = np.flatnonzero(state.settled & too_coarse)
     state.status[coarse] = Status.UNDER_RESOLVED
     for lane in coarse:
-        estimate = state.error_estimate[lane]
-        why = (f"App's estimated step error {estimate:.2g} exceeds app_rtol={app_rtol:g}"
-               if np.isfinite(estimate) else
-               f"the step is too coarse for the contact's stiffest point (omega*dt > "
-               f"{_RESOLVED_OMEGA_DT:g}), so App's error cannot be estimated")
-        state.message[lane] = (f"under-resolved: {why} at {batch.steps} steps per period; "
-                               "raise steps_per_period or refinements")
+        state.message[lane] = under_resolved_message(state.error_estimate[lane], app_rtol,
+                                                     batch.steps)
     failed = failed_period >= 0
     state.status[failed] = Status.FAILED
     if failed.any():
@@ -499,9 +515,23 @@ def _fate(state: Orbits, batch: _Batch, failed_period, cap: np.ndarray,
             if message:
                 state.message[lane] = message
     for lane in np.flatnonzero((state.status == Status.NOT_SETTLED) & ~failed):
-        state.message[lane] = (f"not settled within {cap[lane]} periods (quasi-periodic, "
-                               f"chaotic, a period above {max(PERIODS_TRIED)}, or a slow "
-                               "transient)")
+        state.message[lane] = not_settled_message(cap[lane])
+
+
+def under_resolved_message(estimate: float, app_rtol: float, steps: int) -> str:
+    """Why a settled lane is under-resolved."""
+    why = (f"App's estimated step error {estimate:.2g} exceeds app_rtol={app_rtol:g}"
+           if np.isfinite(estimate) else
+           f"the step is too coarse for the contact's stiffest point (omega*dt > "
+           f"{_RESOLVED_OMEGA_DT:g}), so App's error cannot be estimated")
+    return (f"under-resolved: {why} at {steps} steps per period; "
+            "raise steps_per_period or refinements")
+
+
+def not_settled_message(cap: int) -> str:
+    """Why a lane that did not fail did not settle within its ``cap`` of periods."""
+    return (f"not settled within {cap} periods (quasi-periodic, chaotic, a period above "
+            f"{max(PERIODS_TRIED)}, or a slow transient)")
 
 
 #: How good each status is (0 best), indexed by status + 1: a finer pass replaces a

@@ -2,7 +2,12 @@
 
 Each point starts from the previous point's steady state, as in the paper's
 method; every (amplitude, direction) pair is a lane, and all lanes advance
-through their frequency lists together.
+through their frequency lists together. The walk runs in one compiled call per
+sweep (``_sweep_template.sweep_lanes``, which does per point what ``steady_states``
+does) or point by point in Python, one ``steady_states`` call per frequency
+(``engine="python"``, the reference); tests/test_sweep_compiled.py holds them
+equal. The compiled driver takes some 25-40 s to build once per model, so the
+default, "auto", takes it only where it is built already.
 """
 
 from __future__ import annotations
@@ -17,10 +22,16 @@ from perturb import ContactModel, eq26_numbers
 from ._orbits import Orbits, fates
 from ._simulate import check_model
 from ._steady import DEFAULTS, check_steps, steady_states
+from ._codegen import sweep_driver_built
+from ._sweep_compiled import supported, sweep_lanes_compiled
 
 __all__ = ["SweepRun", "Sweep", "sweep", "DIRECTIONS"]
 
 DIRECTIONS = ("up", "down", "both")
+#: How the points are walked: one compiled call per sweep, or steady_states per point;
+#: "auto" takes the compiled call where its driver is built for the model (building it
+#: costs some 25-40 s once per model: a saving only after dozens of sweeps).
+ENGINES = ("auto", "compiled", "python")
 #: The most steady states one sweep computes (points x amplitudes x directions): about
 #: 12,000 are found per second at the paper's settings, so this is a minute or two.
 MAX_STATES = 1_000_000
@@ -91,6 +102,7 @@ def sweep(
     refinements: int = DEFAULTS["refinements"],
     keep_orbits: bool = False,
     quiet: bool = True,
+    engine: str = "auto",
 ) -> Sweep:
     """Sweep the excitation frequency up and/or down for each force amplitude.
 
@@ -106,6 +118,11 @@ def sweep(
         As in ``steady_states``.
     quiet : bool
         No progress bar on stderr.
+    engine : {"auto", "compiled", "python"}
+        The whole walk in one compiled call (with ``keep_orbits`` the Python route is
+        taken), or point by point in Python (the reference); both give the same points.
+        "auto" (the default) takes the compiled call where its driver is built for the
+        model already (compiling it takes some 25-40 s once), Python otherwise.
 
     Examples
     --------
@@ -114,6 +131,7 @@ def sweep(
     [48.1, 65.0, 106.1]
     """
     check_choice("direction", direction, DIRECTIONS)
+    check_choice("engine", engine, ENGINES)
     model = check_model(model)
     grid = lane_array("frequency_hz", frequency_hz, positive=True)
     if grid.size > 1 and np.any(np.diff(grid) <= 0):
@@ -137,7 +155,7 @@ def sweep(
     start = time.perf_counter()
     points = _sweep_lanes(freq, p_a, model, quiet, steps_per_period=steps_per_period, tol=tol,
                           app_rtol=app_rtol, max_periods=max_periods, method=method,
-                          refinements=refinements, keep_orbits=keep_orbits)
+                          refinements=refinements, keep_orbits=keep_orbits, engine=engine)
     runs = [
         SweepRun(pa_frac=float(frac), direction=d,
                  **points.take(np.arange(i, points.status.size, len(lanes))).columns())
@@ -151,8 +169,29 @@ def sweep(
                  elapsed_s=time.perf_counter() - start)
 
 
-def _sweep_lanes(freq, p_a, model, quiet, start: Orbits | None = None, **accuracy) -> Orbits:
+def _sweep_lanes(freq, p_a, model, quiet, start: Orbits | None = None, *,
+                 engine: str = "auto", **accuracy) -> Orbits:
     """Walk every lane through its frequencies; the points, frequency by frequency.
+
+    ``engine="compiled"`` runs the whole walk in one compiled call (where it supports
+    the settings: not with ``keep_orbits``), "python" point by point with
+    ``steady_states``; both give the same points (tests/test_sweep_compiled.py).
+    """
+    check_choice("engine", engine, ENGINES)
+    if engine == "auto":
+        engine = "compiled" if sweep_driver_built(model) else "python"
+    if engine == "compiled" and supported(accuracy):
+        bar = progress(freq.shape[1], "sweep", quiet=quiet)
+        points = sweep_lanes_compiled(freq, p_a, model, start, **accuracy)
+        bar.update(freq.shape[1])
+        bar.close()
+        return points
+    return _sweep_lanes_python(freq, p_a, model, quiet, start, **accuracy)
+
+
+def _sweep_lanes_python(freq, p_a, model, quiet, start: Orbits | None = None,
+                        **accuracy) -> Orbits:
+    """The walk point by point, one ``steady_states`` call per frequency.
 
     Each point starts from the orbit of the last point that settled, under-resolved
     or not (the paper's method), or from rest if none has: a point that failed,

@@ -1,6 +1,8 @@
 """The whole Fig. 2 + Fig. 3 job: ten amplitudes, up and down, 311 frequencies.
 
 Baselines, measured in the same run:
+- the Python-driven sweep (``engine="python"``: ``steady_states`` once per frequency),
+  which the compiled sweep (one call per sweep) replaced;
 - a plain compiled brute force (the paper's method: 150 periods of 400 steps per
   point from the previous point's state, no early stop), on two of the twenty
   runs, extrapolated;
@@ -29,18 +31,18 @@ BRUTE = {"steps": 400, "periods": 150}
 DOP853_POINTS = 3
 
 _COLD = (
-    "import time, numpy as np; t = time.perf_counter();"
+    "import sys, time, numpy as np; t = time.perf_counter();"
     "from numerics import sweep; from perturb import PAPER_PANEL_FRACTIONS as P;"
-    "sweep(np.linspace(250, 1800, 311), P); print(time.perf_counter() - t)"
+    "sweep(np.linspace(250, 1800, 311), P, engine=sys.argv[1]); print(time.perf_counter() - t)"
 )
 
 
-def cold_start() -> float:
+def cold_start(engine: str = "compiled") -> float:
     """The job in a fresh process with an empty kernel cache (import and compile included)."""
     with tempfile.TemporaryDirectory() as cache:
         env = os.environ | {"CONTACT_RESONANCES_CACHE": cache}
-        out = subprocess.run([sys.executable, "-c", _COLD], env=env, capture_output=True,
-                             text=True, check=True)
+        out = subprocess.run([sys.executable, "-c", _COLD, engine], env=env,
+                             capture_output=True, text=True, check=True)
     return float(out.stdout)
 
 
@@ -72,23 +74,31 @@ def dop853(result) -> float:
 
 
 def main() -> None:
-    job = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS)  # noqa: E731
-    unchecked = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS, app_rtol=None)  # noqa: E731
+    # engine="compiled": the default "auto" takes it only once its driver is built.
+    job = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS, engine="compiled")  # noqa: E731
+    unchecked = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS, app_rtol=None,  # noqa: E731
+                              engine="compiled")
+    python_route = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS, engine="python")  # noqa: E731
     result = job()
-    warm, warm_unchecked = interleaved_medians(job, unchecked, repeats=7)
-    cold = cold_start()
+    warm, warm_python = interleaved_medians(job, python_route, repeats=7)
+    warm_checked, warm_unchecked = interleaved_medians(job, unchecked, repeats=7)
+    cold, cold_python = cold_start(), cold_start("python")
     brute, brute_gap = brute_force(result)
     scipy_s = dop853(result)
     points = sum(len(r.frequency_hz) for r in result.runs)
     header(f"Fig. 2 + 3 job: {len(result.runs)} sweeps x {len(GRID)} points = {points} "
            f"steady states")
+    row("compiled sweep, warm [s] vs Python-driven (goal 0.1)", warm, warm_python, "s",
+        higher_is_better=False)
     row("shooting sweep, kernels cached [s] vs brute force", warm, brute, "s",
         higher_is_better=False)
     row("shooting sweep, kernels cached [s] vs DOP853", warm, scipy_s, "s",
         higher_is_better=False)
-    row("with the step-error check [s] vs without (goal >= 0.83x)", warm, warm_unchecked, "s",
+    row("with the step-error check [s] vs without (goal >= 0.83x)", warm_checked,
+        warm_unchecked, "s",
         higher_is_better=False)
-    row("cold start: import + compile + job [s]", cold, None, "s")
+    row("cold start: import + compile + job [s] vs Python-driven", cold, cold_python, "s",
+        higher_is_better=False)
     row("goals: warm [s], cold [s]", 1.0, None)
     row("", 15.0, None)
     print(f"brute force: {BRUTE['periods']} periods x {BRUTE['steps']} steps, two runs timed "

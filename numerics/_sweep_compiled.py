@@ -1,0 +1,123 @@
+"""The sweep's per-frequency loop in one compiled call (``_sweep_template.sweep_lanes``).
+
+Python prepares every point's numbers (steps per period, settling cap, divergence
+limit, the drive tables of every step count a pass may take), calls the compiled
+driver once, and builds the same ``Orbits`` that ``_sweep._sweep_lanes_python``
+builds point by point with ``steady_states``, messages included.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from common import Status
+from perturb import eq26_numbers
+
+from ._codegen import compiled_kernels
+from ._lanes import divergence_limit, drive_table, failure_message
+from ._orbits import Orbits
+from ._steady import (
+    MAX_STEPS,
+    check_accuracy,
+    lane_steps,
+    not_settled_message,
+    settling_cap,
+    under_resolved_message,
+)
+
+__all__ = ["sweep_lanes_compiled", "supported"]
+
+
+def supported(accuracy: dict) -> bool:
+    """Whether the compiled driver does what ``steady_states`` does with these settings
+    (it does not keep the orbits' histories)."""
+    return not accuracy.get("keep_orbits", False)
+
+
+def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps_per_period,
+                         tol, app_rtol, max_periods, method, refinements,
+                         keep_orbits=False) -> Orbits:
+    """``_sweep._sweep_lanes`` in one compiled call: the points, frequency by frequency."""
+    if keep_orbits:
+        raise ValueError("the compiled sweep does not keep orbits; use the Python route")
+    accuracy = check_accuracy(steps_per_period=steps_per_period, tol=tol, app_rtol=app_rtol,
+                              max_periods=max_periods, method=method, refinements=refinements)
+    tol, app_rtol = accuracy["tol"], accuracy["app_rtol"]
+    max_periods, refinements = accuracy["max_periods"], accuracy["refinements"]
+    # The driver's argument types are fixed (a new type would compile it once more).
+    freq = np.ascontiguousarray(freq, dtype=float)
+    p_a = np.ascontiguousarray(np.broadcast_to(p_a, freq.shape[:1]), dtype=float)
+    kernels = compiled_kernels(model)
+    numbers = eq26_numbers(model.parameters)
+    steps = lane_steps(steps_per_period, freq.ravel(), numbers.fastest_rate_per_s)
+    steps = steps.reshape(freq.shape)
+    lanes = freq.shape[0]
+    if start is None:  # rest, and no orbit to continue before the first point
+        y, v = np.full(lanes, numbers.y0_m), np.zeros(lanes)
+        app, period, continued = np.zeros(lanes), np.ones(lanes, dtype=np.int64), False
+    else:
+        y, v = start.y_start_m.astype(float), start.v_start_m_s.astype(float)
+        app, period, continued = start.app_m.astype(float), start.period.astype(np.int64), True
+    y, v, app = (np.ascontiguousarray(a) for a in (y, v, app))
+    table_steps, table_offset, tables = _drive_tables(steps, refinements)
+    fl, it, mult, extrema, counts = kernels.sweep_lanes(
+        freq, p_a, steps, settling_cap(freq, numbers, max_periods),
+        divergence_limit(model, freq), y, v, app, period, continued, method == "newton",
+        float(tol), -1.0 if app_rtol is None else float(app_rtol), int(refinements), MAX_STEPS,
+        float(numbers.y0_m or 1.0), tables, table_steps, table_offset)
+    return _orbits(kernels, freq, np.broadcast_to(p_a, freq.T.shape).T, fl, it, mult, extrema,
+                   counts, app_rtol, numbers.fastest_rate_per_s)
+
+
+def _drive_tables(steps: np.ndarray, refinements: int):
+    """Every step count a pass or its half-step estimate may take, and their drive
+    tables in one flat array: (counts, offsets, tables)."""
+    passes = np.unique(np.concatenate(
+        [np.minimum(np.unique(steps) * 2**level, MAX_STEPS) for level in range(refinements + 1)]))
+    counts = np.unique(np.concatenate([passes, np.maximum(passes // 2, 2)]))
+    parts = [drive_table(int(n)) for n in counts]
+    offsets = np.cumsum([0] + [part.size for part in parts[:-1]]).astype(np.int64)
+    tables = np.concatenate(parts)
+    # Read-only as drive_table's own: the kernels are called with the types they were
+    # compiled for on the Python route (no second specialisation to compile).
+    tables.flags.writeable = False
+    return counts.astype(np.int64), offsets, tables
+
+
+def _orbits(kernels, freq, p_a, fl, it, mult, extrema, counts, app_rtol, rate) -> Orbits:
+    """The driver's tables as ``Orbits``, point after point (all lanes of a point together)."""
+    lanes, points = freq.shape
+    point_major = lambda a: np.swapaxes(a, 0, 1).reshape(lanes * points, *a.shape[2:])  # noqa
+
+    fl, it, mult = point_major(fl), point_major(it), point_major(mult)
+    # Lane-major: maxima, minima of each point (slices: np.split takes 5x as long).
+    bounds = np.concatenate([[0], np.cumsum(counts.ravel())]).tolist()
+    pieces = [extrema[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
+    order = (np.arange(lanes)[None, :] * points + np.arange(points)[:, None]).ravel()
+    k = kernels
+    status = it[:, k.I_STATUS].copy()
+    orbits = Orbits(
+        frequency_hz=point_major(freq), p_a_n=point_major(p_a).astype(float), status=status,
+        message=[""] * status.size, period=it[:, k.I_PERIOD].copy(),
+        ymin_m=fl[:, k.F_YMIN].copy(), ymax_m=fl[:, k.F_YMAX].copy(),
+        maxima_m=[pieces[2 * i] for i in order], minima_m=[pieces[2 * i + 1] for i in order],
+        y_start_m=fl[:, k.F_Y].copy(), v_start_m_s=fl[:, k.F_V].copy(), multipliers=mult,
+        method=np.array(k.METHODS, dtype=object)[it[:, k.I_METHOD]],
+        steps_used=it[:, k.I_STEPS].copy(), periods_run=it[:, k.I_RUN].copy(),
+        error_estimate=fl[:, k.F_ERROR].copy(),
+    )
+    for i in np.flatnonzero(status != Status.SUCCESS):  # the few points with a message
+        orbits.message[i] = _message(Status(status[i]), orbits, i, it[i], k, app_rtol, rate)
+    return orbits
+
+
+def _message(status: Status, orbits: Orbits, i: int, row, k, app_rtol, rate) -> str:
+    """``_steady._fate``'s message of point i."""
+    steps = int(row[k.I_STEPS])
+    if status == Status.FAILED:
+        f_e = orbits.frequency_hz[i]
+        return failure_message(f_e, orbits.p_a_n[i], int(row[k.I_FAILED_AT]),
+                               rate * (1.0 / (steps * f_e)))  # rate * Lanes.dt
+    if status == Status.UNDER_RESOLVED:
+        return under_resolved_message(orbits.error_estimate[i], app_rtol, steps)
+    return not_settled_message(int(row[k.I_CAP]))

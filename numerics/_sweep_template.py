@@ -1,0 +1,536 @@
+"""A whole frequency sweep as one compiled call, as a template.
+
+``numerics._codegen`` appends this file's text after ``_kernel_template.py``, so
+the functions here call that file's batched kernels (``shoot_periods``,
+``strobe_periods``, ``record_periods``) and the generated ``acceleration``; the
+file is never imported on its own.
+
+``sweep_lanes`` does, point after point, what ``numerics._steady.steady_states``
+does for the lanes of one point (continuation Newton with the reach test and the
+stability check, the short march that confirms it, the settling march, polish,
+recording of the extrema and the least period, the half-step error estimate with
+the stiffness test, the refinement passes with doubled steps, the statuses), in
+the same order and with the same batches of lanes, and seeds the next point as
+``numerics._sweep._sweep_lanes`` does. Every constant comes from ``_steady``.
+
+A point's state is held in a float table ``fl`` and an integer table ``it`` with
+one row per lane and the columns named below, plus the multipliers and the
+extrema: several passes (a step count each) are merged row by row.
+"""
+
+import math
+
+import numba
+import numpy as np
+
+from common import Status
+from numerics import _steady as _st
+
+_SUCCESS = int(Status.SUCCESS)
+_NOT_SETTLED = int(Status.NOT_SETTLED)
+_FAILED = int(Status.FAILED)
+_UNDER_RESOLVED = int(Status.UNDER_RESOLVED)
+#: ``Orbits.method``, by code.
+METHODS = ("none", "newton", "march+newton", "march")
+_M_NONE, _M_NEWTON, _M_MARCH_NEWTON, _M_MARCH = 0, 1, 2, 3
+#: How good each status is (``_steady._RANK``), indexed by status + 1.
+_RANK = np.asarray(_st._RANK, dtype=np.int64)
+_STATUS_OFFSET = -_FAILED
+_KEEP_LAST = max(_st.PERIODS_TRIED) + 3  # stroboscopic samples the period test looks at
+_LARGEST_PERIOD = max(_st.PERIODS_TRIED)
+_NEWTON_ITERATIONS = _st._NEWTON_ITERATIONS
+_SPAN_FLOOR = _st._SPAN_FLOOR
+_REACH_CONTINUATION = _st._REACH_CONTINUATION
+_REACH_POLISH = _st._REACH_POLISH
+_VERIFY_PERIODS = _st._VERIFY_PERIODS
+_VERIFY_SHRINK = _st._VERIFY_SHRINK
+_CHUNK = _st._CHUNK
+_LONGEST_CHUNK = _st._LONGEST_CHUNK
+_CAP_FIRST = _st._CAP_PERIODS[0]
+_LANE_STEP_BUDGET = _st._LANE_STEP_BUDGET
+_RESOLVED_OMEGA_DT = _st._RESOLVED_OMEGA_DT
+_ROUNDOFF = _st._ROUNDOFF
+_UNKNOWN_AMPLIFICATION = _st._UNKNOWN_AMPLIFICATION
+_ORDER_FACTOR = _st._ORDER_FACTOR
+_LARGEST_FLOAT = np.finfo(np.float64).max
+# The march keeps the last _KEEP_LAST samples of its last chunk only: every chunk is
+# at least that long (the shortest is _CHUNK).
+assert _CHUNK >= _KEEP_LAST
+
+# Columns of a point's state tables.
+F_YMIN, F_YMAX, F_Y, F_V, F_ERROR = 0, 1, 2, 3, 4
+I_STATUS, I_PERIOD, I_METHOD, I_STEPS, I_RUN, I_FAILED_AT, I_CAP = 0, 1, 2, 3, 4, 5, 6
+_FLOATS, _INTS = 5, 7
+
+_jit = numba.njit(cache=True, error_model="numpy")
+# Small helpers are inlined in numba's IR: a compiled function links in and optimises
+# again the machine code of everything it calls, so that fewer levels of calls compile
+# faster (measured: 37 s to compile with every function apart, 25 s so, 70 s with all
+# inlined into the driver).
+_inline = numba.njit(cache=True, error_model="numpy", inline="always")
+
+
+@_inline
+def _nanmax(a, b):
+    """np.maximum of two numbers: NaN if either is."""
+    if a != a or b != b:
+        return np.nan
+    return a if a >= b else b
+
+
+@_inline
+def _scale(span, length):
+    """_Batch.scale: the orbit's App, at least _SPAN_FLOOR of y0."""
+    return _nanmax(span, _SPAN_FLOOR * length)
+
+
+@_inline
+def _distance(dy, dv, omega, scale):
+    """_Batch.distance: |dy|/L + |dv|/(Omega L)."""
+    return abs(dy) / scale + abs(dv) / (omega * scale)
+
+
+@_inline
+def _drive(tables, table_steps, table_offset, steps):
+    """The drive table of ``steps`` per period (``_lanes.drive_table``), from the flat store."""
+    for i in range(table_steps.shape[0]):
+        if table_steps[i] == steps:
+            return tables[table_offset[i]:table_offset[i] + 2 * steps + 1]
+    return tables[:0]  # never: Python stores a table for every step count a pass takes
+
+
+@_inline
+def _multipliers(m00, m01, m10, m11):
+    """The eigenvalues of a 2x2 monodromy matrix (NaN where it is not finite)."""
+    if not (math.isfinite(m00) and math.isfinite(m01) and math.isfinite(m10)
+            and math.isfinite(m11)):
+        return complex(np.nan, np.nan), complex(np.nan, np.nan)
+    half_trace = 0.5 * (m00 + m11)
+    disc = 0.25 * (m00 - m11) ** 2 + m01 * m10
+    if disc >= 0.0:
+        root = math.sqrt(disc)
+        return complex(half_trace + root, 0.0), complex(half_trace - root, 0.0)
+    root = math.sqrt(-disc)
+    return complex(half_trace, root), complex(half_trace, -root)
+
+
+@_inline
+def _largest_modulus(mu0, mu1):
+    """np.abs(multipliers).max(): NaN if either is NaN."""
+    return _nanmax(abs(mu0), abs(mu1))
+
+
+@_jit
+def _newton(idx, y_start, v_start, p, span, reach, dt, p_a, omega, drive, tol, length,
+            periods_run):
+    """_Batch.newton on the lanes ``idx`` (one batch: they iterate together)."""
+    n = idx.shape[0]
+    y, v = y_start.copy(), v_start.copy()
+    dt_g, p_a_g = dt[idx], p_a[idx]
+    monodromy = np.empty((n, 2, 2))
+    converged = np.zeros(n, dtype=np.bool_)
+    for _ in range(_NEWTON_ITERATIONS):
+        yp, vp = y.copy(), v.copy()
+        shoot_periods(yp, vp, dt_g, p_a_g, drive, p, monodromy)  # noqa: F821
+        every, some_finite = True, False
+        for i in range(n):
+            periods_run[idx[i]] += p
+            # (M - I) dx = -(Phi(x) - x), by Cramer's rule (_steady._solve_2x2).
+            a00, a01 = monodromy[i, 0, 0] - 1.0, monodromy[i, 0, 1]
+            a10, a11 = monodromy[i, 1, 0], monodromy[i, 1, 1] - 1.0
+            b0, b1 = y[i] - yp[i], v[i] - vp[i]
+            det = a00 * a11 - a01 * a10
+            step_y = (b0 * a11 - a01 * b1) / det
+            step_v = (a00 * b1 - a10 * b0) / det
+            y[i], v[i] = y[i] + step_y, v[i] + step_v
+            size = _distance(step_y, step_v, omega[idx[i]], length)
+            converged[i] = math.isfinite(size) and size < tol * 1e-3
+            every = every and converged[i]
+            some_finite = some_finite or math.isfinite(size)
+        if every or not some_finite:
+            break
+    ok = np.zeros(n, dtype=np.bool_)
+    mult = np.empty((n, 2), dtype=np.complex128)
+    for i in range(n):
+        mu0, mu1 = _multipliers(monodromy[i, 0, 0], monodromy[i, 0, 1], monodromy[i, 1, 0],
+                                monodromy[i, 1, 1])
+        mult[i, 0], mult[i, 1] = mu0, mu1
+        moved = _distance(y[i] - y_start[i], v[i] - v_start[i], omega[idx[i]],
+                          _scale(span[i], length))
+        near = math.isfinite(moved) and moved < reach
+        largest = _largest_modulus(mu0, mu1)
+        stable = (largest if largest == largest else np.inf) < 1.0
+        ok[i] = converged[i] and near and stable
+    return ok, y, v, mult
+
+
+@_jit
+def _follows(idx, y, v, y_orbit, v_orbit, p, span, dt, p_a, omega, limit, drive, tol, length,
+             periods_run):
+    """_Batch.follows: whether a short march from (y, v) approaches the orbit."""
+    n = idx.shape[0]
+    periods = _VERIFY_PERIODS - _VERIFY_PERIODS % p
+    ym, vm = y.copy(), v.copy()
+    # The states that _Batch.follows' strobe_periods reaches, without its samples.
+    advance_periods(ym, vm, dt[idx], p_a[idx], drive, periods,  # noqa: F821
+                    np.full(n, -1, dtype=np.int64), limit[idx])
+    out = np.zeros(n, dtype=np.bool_)
+    for i in range(n):
+        periods_run[idx[i]] += periods
+        scale = _scale(span[i], length)
+        before = _distance(y[i] - y_orbit[i], v[i] - v_orbit[i], omega[idx[i]], scale)
+        after = _distance(ym[i] - y_orbit[i], vm[i] - v_orbit[i], omega[idx[i]], scale)
+        out[i] = (after < _VERIFY_SHRINK * before) or (after < tol)
+    return out
+
+
+@_inline
+def _repeating_period(strobe_y, strobe_v, span, omega, tol, length):
+    """_Batch._repeating_period of one lane, from the last _KEEP_LAST samples of a chunk."""
+    last = strobe_y.shape[0] - 1
+    scale = _scale(span, length)
+    for p in range(1, _LARGEST_PERIOD + 1):
+        d = np.empty(3)
+        for j in range(3):
+            now = last - 2 + j
+            d[j] = _distance(strobe_y[now] - strobe_y[now - p], strobe_v[now] - strobe_v[now - p],
+                             omega, scale)
+        rho = _nanmax(d[1] / d[0], d[2] / d[1])
+        biggest = _nanmax(_nanmax(d[0], d[1]), d[2])
+        left = biggest / (1 - rho)
+        if biggest < tol * 1e-3 or (rho < 1 and left < tol):
+            return p
+    return 0
+
+
+@_jit
+def _march(idx, y, v, cap, failed_at, dt, p_a, omega, limit, drive, tol, length, periods_run):
+    """_Batch.march: lanes march until their stroboscopic state repeats or their cap."""
+    n = idx.shape[0]
+    period = np.zeros(n, dtype=np.int64)
+    last_span = np.zeros(n)
+    y, v = y.copy(), v.copy()
+    active = np.arange(n)
+    done = cap[0] - cap[0]  # 0, typed int64 (a literal 0 would compile the kernel once more)
+    while True:
+        active = active[done < cap[active]]
+        if not active.size:
+            break
+        chunk = _CHUNK if done < _CAP_FIRST else min(done // 4, _LONGEST_CHUNK)
+        lanes = idx[active]
+        strobe_y, strobe_v = np.empty((active.size, chunk)), np.empty((active.size, chunk))
+        span = np.empty(active.size)
+        ya, va, fp = y[active], v[active], failed_at[lanes]
+        strobe_periods(ya, va, dt[lanes], p_a[lanes], drive, chunk, strobe_y, strobe_v,  # noqa
+                       span, fp, done, limit[lanes])
+        moving = np.zeros(active.size, dtype=np.bool_)
+        for i in range(active.size):
+            y[active[i]], v[active[i]] = ya[i], va[i]
+            failed_at[lanes[i]] = fp[i]
+            last_span[active[i]] = span[i]
+            periods_run[lanes[i]] += chunk
+            found = _repeating_period(strobe_y[i], strobe_v[i], span[i], omega[lanes[i]], tol,
+                                      length)
+            if fp[i] >= 0:
+                found = -1
+            period[active[i]] = max(found, 0)
+            moving[i] = found == 0
+        done += chunk
+        active = active[moving]
+    return period, y, v, last_span
+
+
+@_inline
+def _accept(fl, it, mult, lanes, y, v, p, multipliers, method):
+    for i in range(lanes.shape[0]):
+        lane = lanes[i]
+        it[lane, I_STATUS], it[lane, I_PERIOD], it[lane, I_METHOD] = _SUCCESS, p, method
+        fl[lane, F_Y], fl[lane, F_V] = y[i], v[i]
+        if multipliers.shape[0]:
+            mult[lane, 0], mult[lane, 1] = multipliers[i, 0], multipliers[i, 1]
+
+
+@_inline
+def _least_period(strobe_y, strobe_v, y_start, v_start, p, span, omega, tol, length):
+    """_steady._least_period of one lane: the least d dividing p whose state after d
+    periods is the start, within tol."""
+    scale = _scale(span, length)
+    for d in range(1, p):
+        if p % d == 0:
+            gap = _distance(strobe_y[d - 1] - y_start, strobe_v[d - 1] - v_start, omega, scale)
+            if gap < tol:
+                return d
+    return p
+
+
+@_jit
+def _record_orbits(lanes, steps, fl, it, maxima, minima, dt, p_a, omega, limit, drive, tol,
+                   length, periods_run):
+    """_steady._record_orbits: one period of the response from each orbit's start."""
+    for p in range(1, _LARGEST_PERIOD + 1):
+        group = lanes[it[lanes, I_PERIOD] == p]
+        n = group.shape[0]
+        if not n:
+            continue
+        width = steps * p  # room for one extremum per step, the most there can be
+        first = p - p  # 0, typed int64 (a literal 0 would compile the kernel once more)
+        y, v = fl[group, F_Y].copy(), fl[group, F_V].copy()
+        ymin, ymax = np.empty(n), np.empty(n)
+        value, phase = np.empty((n, width)), np.empty((n, width))
+        kind, count = np.empty((n, width), dtype=np.int8), np.zeros(n, dtype=np.int64)
+        history_y, history_v = np.empty((n, width)), np.empty((n, width))
+        record_periods(y, v, dt[group], p_a[group], drive, p,  # noqa: F821
+                       np.full(n, -1, dtype=np.int64), first, ymin, ymax, value, phase, kind,
+                       count, history_y, history_v, limit[group])
+        for i in range(n):
+            lane = group[i]
+            periods_run[lane] += p
+            strobe_y = history_y[i, steps - 1::steps]
+            strobe_v = history_v[i, steps - 1::steps]
+            least = _least_period(strobe_y, strobe_v, fl[lane, F_Y], fl[lane, F_V], p,
+                                  ymax[i] - ymin[i], omega[lane], tol, length)
+            it[lane, I_PERIOD] = least
+            within = phase[i, :count[i]] < least
+            values, kinds = value[i, :count[i]][within], kind[i, :count[i]][within]
+            maxima[lane] = values[kinds > 0]
+            minima[lane] = values[kinds < 0]
+            ends = history_y[i, :least * steps]
+            low = min(values.min() if values.size else np.inf, ends.min())
+            high = max(values.max() if values.size else -np.inf, ends.max())
+            fl[lane, F_YMIN] = min(low, fl[lane, F_Y])
+            fl[lane, F_YMAX] = max(high, fl[lane, F_Y])
+
+
+@_inline
+def _stiffest_omega_dt(ymin, ymax, dt, length):
+    """_steady._stiffest_omega_dt of one lane."""
+    worst = 0.0
+    for y in (ymin, ymax):
+        h = 1e-6 * _nanmax(abs(y), length)
+        slope = (acceleration(y + h, 0.0, 0.0) - acceleration(y - h, 0.0, 0.0)) / (2 * h)  # noqa
+        worst = _nanmax(worst, math.sqrt(_nanmax(-slope, 0.0)))
+    return worst * dt
+
+
+@_jit
+def _estimate_step_error(lanes, steps, fl, it, mult, f_e, p_a, limit, tables, table_steps,
+                         table_offset, dt, length, periods_run):
+    """_steady._estimate_step_error: App's relative error from the step, per settled lane."""
+    half_steps = max(steps // 2, 2)
+    half_drive = _drive(tables, table_steps, table_offset, half_steps)
+    floor = _ROUNDOFF * length
+    for p in range(1, _LARGEST_PERIOD + 1):
+        group = np.empty(lanes.shape[0], dtype=np.int64)
+        n = 0
+        for lane in lanes:
+            if it[lane, I_STATUS] != _SUCCESS or it[lane, I_PERIOD] != p:
+                continue
+            stiff = _stiffest_omega_dt(fl[lane, F_YMIN], fl[lane, F_YMAX], dt[lane], length)
+            if stiff <= _RESOLVED_OMEGA_DT:
+                group[n] = lane
+                n += 1
+            else:
+                fl[lane, F_ERROR] = np.inf  # too coarse to estimate
+        if not n:
+            continue
+        group = group[:n]
+        first = p - p  # 0, typed int64 (a literal 0 would compile the kernel once more)
+        y, v = fl[group, F_Y].copy(), fl[group, F_V].copy()
+        ymin, ymax = np.empty(n), np.empty(n)
+        record_periods(y, v, 1.0 / (half_steps * f_e[group]), p_a[group], half_drive, p,  # noqa
+                       np.full(n, -1, dtype=np.int64), first, ymin, ymax, np.empty((n, 0)),
+                       np.empty((n, 0)), np.empty((n, 0), dtype=np.int8),
+                       np.zeros(n, dtype=np.int64), np.empty((n, 0)), np.empty((n, 0)),
+                       limit[group])
+        for i in range(n):
+            lane = group[i]
+            periods_run[lane] += p
+            app = fl[lane, F_YMAX] - fl[lane, F_YMIN]
+            largest = _largest_modulus(mult[lane, 0], mult[lane, 1])
+            amplification = 1 / (1 - largest) if largest < 1 else _UNKNOWN_AMPLIFICATION
+            change = (_nanmax(abs(app - (ymax[i] - ymin[i])), floor) * amplification
+                      / _ORDER_FACTOR)
+            estimate = 0.0 if app <= floor else change / app
+            if estimate != estimate:  # np.nan_to_num(estimate, nan=np.inf)
+                estimate = np.inf
+            elif estimate == np.inf:
+                estimate = _LARGEST_FLOAT
+            elif estimate == -np.inf:
+                estimate = -_LARGEST_FLOAT
+            fl[lane, F_ERROR] = estimate
+
+
+@_jit
+def _solve(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, continuation, use_newton,
+           tol, app_rtol, length, tables, table_steps, table_offset, fl, it, mult, maxima,
+           minima):
+    """_steady._solve: one pass at one step count over ``lanes``; writes their rows."""
+    lane_count = f_e.shape[0]
+    drive = _drive(tables, table_steps, table_offset, steps)
+    dt = 1.0 / (steps * f_e)
+    omega = 2 * np.pi * f_e
+    periods_run = np.zeros(lane_count, dtype=np.int64)
+    failed_at = np.full(lane_count, -1, dtype=np.int64)
+    for lane in lanes:  # Orbits.empty
+        fl[lane, :] = np.nan
+        it[lane, I_STATUS], it[lane, I_PERIOD], it[lane, I_METHOD] = _NOT_SETTLED, 0, _M_NONE
+        it[lane, I_STEPS] = steps
+        it[lane, I_CAP] = min(cap[lane], max(_LANE_STEP_BUDGET // steps, _CHUNK))
+        mult[lane, 0] = complex(np.nan, np.nan)
+        mult[lane, 1] = complex(np.nan, np.nan)
+        maxima[lane] = np.empty(0)
+        minima[lane] = np.empty(0)
+    if use_newton and continuation:
+        for p in range(1, _LARGEST_PERIOD + 1):
+            group = lanes[guess[lanes] == p]
+            if not group.size:
+                continue
+            ok, yn, vn, mu = _newton(group, y[group], v[group], p, span[group],
+                                     _REACH_CONTINUATION, dt, p_a, omega, drive, tol, length,
+                                     periods_run)
+            chosen = np.flatnonzero(ok)
+            lanes_ok = group[chosen]
+            follows = _follows(lanes_ok, y[lanes_ok], v[lanes_ok], yn[chosen], vn[chosen], p,
+                               span[lanes_ok], dt, p_a, omega, limit, drive, tol, length,
+                               periods_run)
+            ok[chosen[~follows]] = False
+            _accept(fl, it, mult, group[ok], yn[ok], vn[ok], p, mu[ok], _M_NEWTON)
+    rest = lanes[it[lanes, I_STATUS] != _SUCCESS]
+    if rest.size:
+        period, ym, vm, span_m = _march(rest, y[rest], v[rest], it[rest, I_CAP], failed_at, dt,
+                                        p_a, omega, limit, drive, tol, length, periods_run)
+        for i in range(rest.size):
+            fl[rest[i], F_Y], fl[rest[i], F_V] = ym[i], vm[i]
+        no_multipliers = np.empty((0, 2), dtype=np.complex128)
+        for p in range(1, _LARGEST_PERIOD + 1):
+            chosen = period == p
+            group, marched_y, marched_v = rest[chosen], ym[chosen], vm[chosen]
+            if not group.size:
+                continue
+            if use_newton:  # polish: the marched state is within about tol of the orbit
+                ok, yn, vn, mu = _newton(group, marched_y, marched_v, p, span_m[chosen],
+                                         _REACH_POLISH, dt, p_a, omega, drive, tol, length,
+                                         periods_run)
+                _accept(fl, it, mult, group[ok], yn[ok], vn[ok], p, mu[ok], _M_MARCH_NEWTON)
+                group, marched_y, marched_v = group[~ok], marched_y[~ok], marched_v[~ok]
+            _accept(fl, it, mult, group, marched_y, marched_v, p, no_multipliers, _M_MARCH)
+    _record_orbits(lanes, steps, fl, it, maxima, minima, dt, p_a, omega, limit, drive, tol,
+                   length, periods_run)
+    if app_rtol > 0:
+        _estimate_step_error(lanes, steps, fl, it, mult, f_e, p_a, limit, tables, table_steps,
+                             table_offset, dt, length, periods_run)
+    for lane in lanes:  # _steady._fate (the messages are written in Python)
+        it[lane, I_RUN] = periods_run[lane]
+        it[lane, I_FAILED_AT] = failed_at[lane]
+        if app_rtol > 0 and it[lane, I_STATUS] == _SUCCESS and not fl[lane, F_ERROR] <= app_rtol:
+            it[lane, I_STATUS] = _UNDER_RESOLVED
+        if failed_at[lane] >= 0:
+            it[lane, I_STATUS] = _FAILED
+
+
+@_inline
+def _solve_by_steps(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
+                    use_newton, tol, app_rtol, length, tables, table_steps, table_offset, fl, it,
+                    mult, maxima, minima):
+    """_steady._solve_by_steps: a pass per step count, in increasing order."""
+    pending = steps[lanes]
+    while pending.size:
+        count = pending.min()
+        pending = pending[pending != count]
+        _solve(lanes[steps[lanes] == count], count, f_e, p_a, y, v, guess, span, cap, limit,
+               continuation, use_newton, tol, app_rtol, length, tables, table_steps,
+               table_offset, fl, it, mult, maxima, minima)
+
+
+@_inline
+def _point_tables(n):
+    """A point's state tables for n lanes: floats, integers, multipliers, maxima, minima."""
+    return (np.empty((n, _FLOATS)), np.empty((n, _INTS), dtype=np.int64),
+            np.empty((n, 2), dtype=np.complex128), [np.empty(0)] * n, [np.empty(0)] * n)
+
+
+@_inline
+def _steady_states(steps, f_e, p_a, y, v, guess, span, cap, limit, continuation, use_newton,
+                   tol, app_rtol, refinements, max_steps, length, tables, table_steps,
+                   table_offset):
+    """_steady.steady_states for the lanes of one point; their state tables.
+
+    Pass 0 solves every lane; pass k (a refinement) solves again, with 2^k times the
+    steps, the lanes that failed, did not settle, or settled with p > 1 or too coarsely,
+    into the fine tables, and keeps its result where it is at least as good."""
+    n = f_e.shape[0]
+    fl, it, mult, maxima, minima = _point_tables(n)
+    fine_fl, fine_it, fine_mult, fine_maxima, fine_minima = _point_tables(n)
+    lanes = np.arange(n)
+    for level in range(refinements + 1):
+        redo = lanes
+        if level:
+            redo = lanes[(it[:, I_STATUS] != _SUCCESS) | (it[:, I_PERIOD] > 1)
+                         | (it[:, I_STATUS] == _UNDER_RESOLVED)]
+            if not redo.size:
+                break
+        fine = level > 0
+        _solve_by_steps(redo, np.minimum(steps * 2**level, max_steps), f_e, p_a, y, v, guess,
+                        span, cap, limit, continuation, use_newton, tol, app_rtol, length,
+                        tables, table_steps, table_offset, fine_fl if fine else fl,
+                        fine_it if fine else it, fine_mult if fine else mult,
+                        fine_maxima if fine else maxima, fine_minima if fine else minima)
+        if not fine:
+            continue
+        for lane in redo:  # _steady._merge: the finer result where at least as good
+            cost = it[lane, I_RUN] + fine_it[lane, I_RUN]
+            if (_RANK[fine_it[lane, I_STATUS] + _STATUS_OFFSET]
+                    <= _RANK[it[lane, I_STATUS] + _STATUS_OFFSET]):
+                fl[lane], it[lane], mult[lane] = fine_fl[lane], fine_it[lane], fine_mult[lane]
+                maxima[lane], minima[lane] = fine_maxima[lane], fine_minima[lane]
+            it[lane, I_RUN] = cost
+    return fl, it, mult, maxima, minima
+
+
+@_jit
+def sweep_lanes(freq, p_a, steps, cap, limit, y, v, app, period, continued, use_newton, tol,
+                app_rtol, refinements, max_steps, length, tables, table_steps, table_offset):
+    """Walk every lane through its frequencies (``numerics._sweep._sweep_lanes``).
+
+    freq, steps, cap, limit : (lanes, points): f_e, the first pass's steps per period,
+        the settling cap and the divergence limit of every point.
+    y, v, app, period : (lanes,): the state the lanes start from, and its orbit's App
+        and period; ``continued``: whether that is an orbit to continue.
+    tables, table_steps, table_offset : the drive tables of every step count used.
+    app_rtol : <= 0 for no error estimate.
+
+    Returns the state tables (lanes, points, columns), the multipliers, and the
+    extrema: maxima then minima of each point, lane after lane, with their counts.
+    """
+    lanes, points = freq.shape
+    y, v, app, period = y.copy(), v.copy(), app.copy(), period.copy()
+    fl = np.empty((lanes, points, _FLOATS))
+    it = np.empty((lanes, points, _INTS), dtype=np.int64)
+    mult = np.empty((lanes, points, 2), dtype=np.complex128)
+    counts = np.zeros((lanes, points, 2), dtype=np.int64)
+    found_max = [np.empty(0)] * (lanes * points)  # lane-major
+    found_min = [np.empty(0)] * (lanes * points)
+    for j in range(points):
+        f_fl, f_it, f_mult, maxima, minima = _steady_states(
+            steps[:, j].copy(), freq[:, j].copy(), p_a, y, v, period, app, cap[:, j].copy(),
+            limit[:, j].copy(), continued, use_newton, tol, app_rtol, refinements, max_steps,
+            length, tables, table_steps, table_offset)
+        fl[:, j], it[:, j], mult[:, j] = f_fl, f_it, f_mult
+        for lane in range(lanes):
+            found_max[lane * points + j], found_min[lane * points + j] = maxima[lane], minima[lane]
+            counts[lane, j, 0], counts[lane, j, 1] = maxima[lane].size, minima[lane].size
+            # A settled or under-resolved orbit seeds the next point; nothing else does.
+            status = f_it[lane, I_STATUS]
+            if status == _SUCCESS or status == _UNDER_RESOLVED:
+                y[lane], v[lane] = f_fl[lane, F_Y], f_fl[lane, F_V]
+                app[lane] = f_fl[lane, F_YMAX] - f_fl[lane, F_YMIN]
+                period[lane] = f_it[lane, I_PERIOD]
+        continued = True
+    extrema = np.empty(counts.sum())
+    at = 0
+    for k in range(lanes * points):
+        extrema[at:at + found_max[k].size] = found_max[k]
+        at += found_max[k].size
+        extrema[at:at + found_min[k].size] = found_min[k]
+        at += found_min[k].size
+    return fl, it, mult, extrema, counts

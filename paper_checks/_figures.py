@@ -1,17 +1,18 @@
 """Every figure of the report: the scenes' files, and the one no scene draws.
 
 The paper's figures are drawn by their scenes (``paper_checks/scenes``) as they run;
-the work-precision figure is drawn here, from its result (matplotlib Agg, no pyplot).
+the work-precision figure is drawn beside its scene (``_scene.run_job``) by
+``plot_work_precision``, from its result (matplotlib Agg, no pyplot).
 """
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 from matplotlib.figure import Figure
 
-from ._scene import CENSUS_SCENES, PaperScene
+from numerics.plots._figure import finish
+
+from ._scene import CENSUS_SCENES, WORK_PRECISION_FIGURE, PaperScene
 from ._work_precision import WorkPrecision
 
 __all__ = ["draw_figures", "plot_work_precision", "SCENE_FIGURES"]
@@ -50,28 +51,25 @@ def plot_work_precision(result: WorkPrecision, path=None) -> Figure:
     ax.set_title("What accuracy costs", fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7)
-    if path is not None:
-        figure.savefig(path, dpi=150)
-    return figure
+    return finish(figure, path)
 
 
 def draw_figures(scene: PaperScene) -> dict[str, str]:
-    """Run every scene not run yet (each draws its figures into ``scene.out``), draw the
-    work-precision figure there; return {caption: file name}."""
+    """Run every scene not run yet (each draws its figures into ``scene.out``, the
+    work-precision scene its figure too); return {caption: file name}."""
     if scene.out is None:
         raise ValueError("`scene.out` is None: the scenes draw their figures into it.")
     runs = scene.run_scenes()
     figures = {}
-    for caption, (name, kind) in SCENE_FIGURES.items():
-        file = runs[name].settings["figures"][kind]
+    # The figure kind `work_precision` has no drawer in numerics.scenes: drawn beside it.
+    captions = {**SCENE_FIGURES, "What accuracy costs (work-precision)": (
+        "work-precision.toml", None)}
+    for caption, (name, kind) in captions.items():
+        file = runs[name].settings["figures"][kind] if kind else WORK_PRECISION_FIGURE
         if file not in runs[name].files:
             raise RuntimeError(f"scene {name} did not write {file} (wrote {runs[name].files})")
         figures[caption] = file
-    start = time.perf_counter()
-    # The figure kind `work_precision` has no drawer in numerics.scenes: drawn here.
-    figures["What accuracy costs (work-precision)"] = "work-precision.png"
-    plot_work_precision(scene.work_precision, scene.out / "work-precision.png")
-    scene.timings["figures"] = {"seconds": time.perf_counter() - start,
+    scene.timings["figures"] = {"seconds": scene.figure_seconds["work-precision.toml"],
                                 "settings": "1 PNG file (the scenes draw the other "
                                             f"{len(SCENE_FIGURES)})"}
     return figures

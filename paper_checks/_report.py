@@ -15,7 +15,7 @@ from perturb import text_report
 from ._claims import Claim
 from ._figures import draw_figures
 from ._registry import run_claims
-from ._scene import PaperScene
+from ._scene import PaperScene, default_jobs, worker_pool
 
 __all__ = ["write_report"]
 
@@ -82,17 +82,23 @@ def _runs_section(out: Path, this_run: dict) -> list[str]:
 
 
 def write_report(out: Path, quick: bool = False, started: float | None = None,
-                 kernels_cached_before: int = 0, kernel_files=None) -> dict:
+                 kernels_cached_before: int = 0, kernel_files=None,
+                 jobs: int | None = None) -> dict:
     """Check every claim, draw every figure, and write report.md and report.json.
 
     ``started`` is the perf_counter() at process start, so that the wall time
     includes the imports; ``kernel_files`` lists the compiled kernels after the run.
+    The scenes run in ``jobs`` worker processes (default: one per processor; 1 runs
+    them here, one after the other).
     """
     start = time.perf_counter() if started is None else started
     scene = PaperScene(quick=quick, out=out)
-    claims = run_claims(scene)
-    work = scene.work_precision
-    figures = draw_figures(scene)
+    with worker_pool(default_jobs() if jobs is None else jobs) as pool:
+        if pool is not None:
+            scene.start(pool)
+        claims = run_claims(scene)
+        work = scene.work_precision
+        figures = draw_figures(scene)
     elapsed = time.perf_counter() - start
     lines = ["# The paper, checked and redrawn", "",
              "*Analysis of the primary and superharmonic contact resonances – Part 1*, "

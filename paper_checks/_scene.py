@@ -8,31 +8,45 @@ exact backbone, the analytic-against-numerical comparison and the work-precision
 study. The linear check and the perturbation series are direct calls. ``quick`` uses
 coarser grids (for the tests), in variants of the scenes made by
 ``dataclasses.replace``.
+
+The scenes are independent: ``PaperScene.start(executor)`` hands them all to worker
+processes at once (``worker_pool``), each drawing its own figures there, and the
+properties then wait for theirs; an error in a worker is raised where its result is
+asked for. Without ``start`` every scene runs in this process when first asked for.
 """
 
 from __future__ import annotations
 
+import multiprocessing
+import os
+import sys
 import time
-from dataclasses import replace
+from collections.abc import Iterable, Iterator
+from concurrent.futures import Executor, Future, ProcessPoolExecutor
+from contextlib import contextmanager
+from dataclasses import dataclass, replace
 from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
-from numerics import steady_states
+from numerics import compiled_kernels, steady_states
 from numerics.scenes import Scene, SceneRun, read_scene, run_scene
 from perturb import (
+    EQ_2_6,
     PAPER,
     PAPER_BAND_HZ,
     PAPER_COEXISTENCE,
     PAPER_PANEL_FRACTIONS,
+    ContactModel,
     derive,
     eq26_numbers,
 )
 
 from ._work_precision import WorkPrecision
 
-__all__ = ["PaperScene", "COEXISTENCE_POINTS", "SCENES", "CENSUS_SCENES", "paper_scene"]
+__all__ = ["PaperScene", "COEXISTENCE_POINTS", "SCENES", "CENSUS_SCENES", "SCENE_FILES",
+           "paper_scene", "worker_pool"]
 
 #: The folder of the paper's scenes.
 SCENES = Path(__file__).parent / "scenes"
@@ -40,15 +54,93 @@ SCENES = Path(__file__).parent / "scenes"
 COEXISTENCE_POINTS = PAPER_COEXISTENCE
 #: The scene of each point of COEXISTENCE_POINTS.
 CENSUS_SCENES = {"740 Hz, 0.15Q": "census-740hz.toml", "490 Hz, 0.50Q": "census-490hz.toml"}
+#: Every scene of the report, longest first as the report's table of times had them
+#: on 2026-11-23 (the comparison, the work-precision study, Fig. 2 + 3, then the
+#: others, each a tenth of those or less), so that two workers end about together.
+SCENE_FILES = ("comparison.toml", "work-precision.toml", "fig2-fig3.toml", "backbone.toml",
+               *CENSUS_SCENES.values(), "fig4.toml", "fig5.toml")
+#: The models whose compiled kernels the scenes share (the full model; Eq. 2.6 for the
+#: comparison and the series' reference), compiled before the scenes start.
+KERNEL_MODELS = (ContactModel(), ContactModel(effects=EQ_2_6))
 #: Section 3.1's "very small amplitude of the excitation force", as P_a / Q.
 TINY_FORCE_FRAC = 1e-3
 #: Force amplitudes at which the series is compared with RK4 (the series needs contact).
 COMPARED_FRACTIONS = (0.05, 0.10, 0.15)
+#: What ``quick`` changes: energy levels of the backbone, orders of the comparison,
+#: frequency step of the band [Hz] (5 Hz in the scenes).
+QUICK_BACKBONE_POINTS = 60
+QUICK_ORDERS = (2, 4, 6)
+QUICK_STEP_HZ = 10.0
+#: The work-precision figure, drawn from the study's text (no scene draws it).
+WORK_PRECISION_FIGURE = "work-precision.png"
 
 
 def paper_scene(name: str) -> Scene:
     """The paper's scene ``name`` (a file of ``paper_checks/scenes``), read and checked."""
     return read_scene(SCENES / name)
+
+
+@dataclass
+class SceneJob:
+    """A scene as ``run_job`` ran it: its run, and its time with its figures [s].
+
+    ``figure_seconds`` is the time of the figure drawn beside the scene (the
+    work-precision figure), or None.
+    """
+
+    run: SceneRun
+    seconds: float
+    figure_seconds: float | None = None
+
+
+def run_job(scene: Scene, out: Path | None) -> SceneJob:
+    """Run ``scene``, its figures into ``out``; the work-precision study's figure too.
+
+    The job of one worker process (or of this one, when no worker runs the scenes).
+    """
+    start = time.perf_counter()
+    run = run_scene(scene, out=out)
+    job = SceneJob(run, time.perf_counter() - start)
+    if out is not None and scene.study == "work_precision":
+        from ._figures import plot_work_precision
+
+        start = time.perf_counter()
+        plot_work_precision(WorkPrecision.from_text(run.text), out / WORK_PRECISION_FIGURE)
+        job.figure_seconds = time.perf_counter() - start
+        run.files.append(WORK_PRECISION_FIGURE)
+    return job
+
+
+def _compile(model: ContactModel) -> None:
+    compiled_kernels(model)  # the module stays in the worker: it does not pickle
+
+
+def default_jobs() -> int:
+    """The processors this process may run on (the worker processes to start)."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1
+
+
+@contextmanager
+def worker_pool(jobs: int) -> Iterator[Executor | None]:
+    """``jobs`` worker processes for the scenes, or None for one job (run here).
+
+    On Linux the workers are forked: they start at once with what this process has
+    imported, where spawned ones would import it all again each (elsewhere they are
+    spawned). On an error the scenes not started are cancelled.
+    """
+    if jobs <= 1:
+        yield None
+        return
+    method = "fork" if sys.platform.startswith("linux") else None
+    pool = ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context(method))
+    try:
+        yield pool
+    except BaseException:
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown()
 
 
 class PaperScene:
@@ -62,6 +154,8 @@ class PaperScene:
         self.out = None if out is None else Path(out)
         self.timings: dict[str, dict] = {}
         self.runs: dict[str, SceneRun] = {}
+        self.figure_seconds: dict[str, float] = {}
+        self._started: dict[str, Future] = {}
 
     def _timed(self, name: str, settings: str, compute):
         start = time.perf_counter()
@@ -69,15 +163,45 @@ class PaperScene:
         self.timings[name] = {"seconds": time.perf_counter() - start, "settings": settings}
         return result
 
-    def _run(self, name: str, quick_changes: dict | None = None) -> SceneRun:
-        """Run the scene ``name`` (with ``quick_changes`` when quick): its figures go to out."""
+    def variant(self, name: str) -> Scene:
+        """The scene ``name`` as this report runs it (coarser when quick)."""
         scene = paper_scene(name)
-        if self.quick and quick_changes:
-            changes = dict(quick_changes)
-            options = {**scene.options, **changes.pop("options", {})}
-            scene = replace(scene, options=options, **changes)
-        self.runs[name] = run_scene(scene, out=self.out)
-        return self.runs[name]
+        if not self.quick:
+            return scene
+        changes = {"fig2-fig3.toml": {"frequency_hz": self.grid_hz},
+                   "backbone.toml": {"options": {"points": QUICK_BACKBONE_POINTS}},
+                   "comparison.toml": {"frequency_hz": self.grid_hz,
+                                       "options": {"orders": QUICK_ORDERS}},
+                   "work-precision.toml": {"options": {"quick": True}}}.get(name, {})
+        options = {**scene.options, **changes.pop("options", {})}
+        return replace(scene, options=options, **changes)
+
+    def start(self, executor: Executor, names: Iterable[str] = SCENE_FILES) -> None:
+        """Hand the scenes ``names`` (default: all, longest first) to ``executor``.
+
+        The kernels the scenes share are compiled first, each by one worker at once
+        (with an empty cache, every worker would otherwise compile each of them).
+        """
+        for compiled in [executor.submit(_compile, model) for model in KERNEL_MODELS]:
+            compiled.result()
+        for name in names:
+            if name not in self.runs and name not in self._started:
+                self._started[name] = executor.submit(run_job, self.variant(name), self.out)
+
+    def _run(self, timing: str, settings: str, *names: str) -> list[SceneRun]:
+        """The runs of the scenes ``names`` (waited for, or run here), timed as ``timing``:
+        the time each took with its figures, wherever it ran."""
+        jobs = []
+        for name in names:
+            started = self._started.pop(name, None)
+            job = started.result() if started is not None else run_job(self.variant(name),
+                                                                        self.out)
+            self.runs[name] = job.run
+            if job.figure_seconds is not None:
+                self.figure_seconds[name] = job.figure_seconds
+            jobs.append(job)
+        self.timings[timing] = {"seconds": sum(j.seconds for j in jobs), "settings": settings}
+        return [job.run for job in jobs]
 
     @cached_property
     def info(self) -> dict:
@@ -88,28 +212,26 @@ class PaperScene:
         # The paper's band on a 5 Hz grid, the grid of scenes/fig2-fig3.toml and
         # comparison.toml (tests/test_paper_checks.py holds them equal); 10 Hz when quick,
         # and then given to those scenes.
-        step = 10.0 if self.quick else 5.0
+        step = QUICK_STEP_HZ if self.quick else 5.0
         return np.arange(PAPER_BAND_HZ[0], PAPER_BAND_HZ[1] + step / 2, step)
 
     @cached_property
     def sweep(self):
         """Fig. 2 and 3: ten amplitudes, swept up and down (scenes/fig2-fig3.toml)."""
-        run = self._timed(
+        run, = self._run(
             "sweep (Fig. 2, 3)",
             f"scenes/fig2-fig3.toml: {len(PAPER_PANEL_FRACTIONS)} amplitudes x up/down x "
             f"{self.grid_hz.size} points; 128 steps/period, tol 1e-6 (App within 0.5 %); "
-            "with its figures",
-            lambda: self._run("fig2-fig3.toml", {"frequency_hz": self.grid_hz}))
+            "with its figures", "fig2-fig3.toml")
         return run.outcomes[0]
 
     @cached_property
     def censuses(self) -> dict:
         """Section 3.3: {point: Census}, one scene per point of COEXISTENCE_POINTS."""
-        return self._timed(
-            "attractor censuses", "scenes/census-*.toml: 98 initial states each; "
-            "128 steps/period, tol 1e-6; with their figures",
-            lambda: {point: self._run(CENSUS_SCENES[point]).outcomes[0]
-                     for point in COEXISTENCE_POINTS})
+        runs = self._run("attractor censuses", "scenes/census-*.toml: 98 initial states each; "
+                         "128 steps/period, tol 1e-6; with their figures",
+                         *(CENSUS_SCENES[point] for point in COEXISTENCE_POINTS))
+        return {point: run.outcomes[0] for point, run in zip(COEXISTENCE_POINTS, runs)}
 
     @cached_property
     def tiny_force(self):
@@ -123,45 +245,42 @@ class PaperScene:
     @cached_property
     def heights(self):
         """Fig. 4: the natural frequency against the body's height (scenes/fig4.toml)."""
-        run = self._timed("natural frequency (Fig. 4)",
-                          "scenes/fig4.toml: 100 heights, closed form; with its figure",
-                          lambda: self._run("fig4.toml"))
+        run, = self._run("natural frequency (Fig. 4)",
+                         "scenes/fig4.toml: 100 heights, closed form; with its figure",
+                         "fig4.toml")
         return run.outcomes[0]
 
     @cached_property
     def hysteresis(self):
         """Fig. 5: the hysteresis loop at 1600 Hz, 0.40Q (scenes/fig5.toml)."""
-        run = self._timed("hysteresis loop (Fig. 5)",
-                          "scenes/fig5.toml: 400 periods, 512 steps/period; with its figure",
-                          lambda: self._run("fig5.toml"))
+        run, = self._run("hysteresis loop (Fig. 5)",
+                         "scenes/fig5.toml: 400 periods, 512 steps/period; with its figure",
+                         "fig5.toml")
         return run.outcomes[0]
 
     @cached_property
     def backbone(self):
-        points = 60 if self.quick else 200
-        run = self._timed("exact backbone", f"scenes/backbone.toml: {points} energy levels, "
-                          "period quadrature; with its figure",
-                          lambda: self._run("backbone.toml", {"options": {"points": points}}))
+        points = self.variant("backbone.toml").options["points"]
+        run, = self._run("exact backbone", f"scenes/backbone.toml: {points} energy levels, "
+                         "period quadrature; with its figure", "backbone.toml")
         return run.outcomes[0]
 
     @cached_property
     def comparison(self):
         """Series of orders 2..8 against the exact backbone and RK4 (Eq. 2.6 and full)."""
-        orders = (2, 4, 6) if self.quick else (2, 4, 6, 8)
-        run = self._timed(
+        orders = tuple(self.variant("comparison.toml").options["orders"])
+        run, = self._run(
             "analytic against numerical", f"scenes/comparison.toml: orders {orders}, "
             f"P_a = 0.05, 0.10, 0.15 Q, {self.grid_hz.size} frequencies, up and down, both "
-            "models; with its figure",
-            lambda: self._run("comparison.toml", {"frequency_hz": self.grid_hz,
-                                                  "options": {"orders": orders}}))
+            "models; with its figure", "comparison.toml")
         return run.outcomes[0]
 
     @cached_property
     def work_precision(self) -> WorkPrecision:
         """What accuracy costs (scenes/work-precision.toml); its measurement is the text."""
-        run = self._timed("accuracy against time",
-                          "scenes/work-precision.toml: every point measured",
-                          lambda: self._run("work-precision.toml", {"options": {"quick": True}}))
+        run, = self._run("accuracy against time",
+                         "scenes/work-precision.toml: every point measured",
+                         "work-precision.toml")
         return WorkPrecision.from_text(run.text)
 
     @cached_property

@@ -1,12 +1,26 @@
-"""The figures are drawn from result objects and saved as PNG, without pyplot."""
+"""The figures are drawn from result objects and saved as PNG, without pyplot; the
+report's scenes draw theirs in worker processes."""
 
 import subprocess
 import sys
 
 import numpy as np
+import pytest
+from matplotlib.figure import Figure
 
-from numerics import exact_backbone, hysteresis_loop, natural_frequency_vs_height
-from numerics.plots import plot_backbone, plot_hysteresis, plot_natural_frequency
+from numerics import exact_backbone, hysteresis_loop, natural_frequency_vs_height, sweep
+from numerics.plots import (
+    _figure,
+    _sweep,
+    plot_app,
+    plot_backbone,
+    plot_extrema,
+    plot_hysteresis,
+    plot_natural_frequency,
+)
+from numerics.plots._figure import DPI
+from paper_checks import _scene
+from paper_checks._scene import PaperScene, worker_pool
 
 
 def is_png(path) -> bool:
@@ -52,3 +66,76 @@ def test_plotting_does_not_touch_pyplot():
 def test_core_does_not_import_matplotlib():
     code = "import sys, numerics; assert 'matplotlib' not in sys.modules, 'core imports matplotlib'"
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+# -- saving: one draw, the file savefig writes
+
+
+def test_a_png_is_drawn_once_and_is_the_file_savefig_writes(tmp_path, monkeypatch):
+    # Regression: savefig lays a constrained figure out in a draw of its own before
+    # drawing it; finish() draws once, and must still write the same file.
+    backbone = exact_backbone(points=20)
+    draws = []
+    original = Figure.draw
+    monkeypatch.setattr(Figure, "draw", lambda self, renderer: draws.append(self)
+                        or original(self, renderer))
+    plot_backbone(backbone, tmp_path / "finish.png")
+    assert len(draws) == 1
+    plot_backbone(backbone).savefig(tmp_path / "savefig.png", dpi=DPI)
+    assert len(draws) == 3  # savefig: the layout's draw, then the pixels
+    assert (tmp_path / "finish.png").read_bytes() == (tmp_path / "savefig.png").read_bytes()
+
+
+def test_other_formats_are_saved_by_savefig(tmp_path):
+    plot_backbone(exact_backbone(points=20), tmp_path / "backbone.svg")
+    assert (tmp_path / "backbone.svg").read_text().lstrip().startswith("<?xml")
+
+
+def test_the_layout_shortcuts_leave_the_files_unchanged(tmp_path, monkeypatch):
+    # panel_title fixes the titles at the top edge, _spines_out_of_layout leaves out of
+    # the layout the spines the tick labels cover, _minor_log_ticks_in_view drops the
+    # minor ticks matplotlib makes off view: all to spare it tick objects and updates of
+    # every tick. On the Fig. 2 and 3 panels (log and linear y, shared x, x tick labels
+    # hidden in all but the last row) matplotlib left to itself draws the same files.
+    result = sweep(np.array([700.0, 740.0, 1400.0, 1450.0]), (0.05, 0.3, 0.5))
+    for plot in (plot_app, plot_extrema):
+        plot(result, tmp_path / "shortcuts.png")
+        with monkeypatch.context() as patch:
+            patch.setattr(_sweep, "panel_title", lambda ax, text, **kw: ax.set_title(text, **kw))
+            patch.setattr(_figure, "_spines_out_of_layout", lambda figure: None)
+            patch.setattr(_figure, "_minor_log_ticks_in_view", lambda figure: None)
+            plot(result, tmp_path / "plain.png")
+        assert (tmp_path / "shortcuts.png").read_bytes() == (tmp_path / "plain.png").read_bytes()
+
+
+# -- the report's scenes and figures, in worker processes
+
+
+def test_scenes_run_in_workers_give_what_they_give_here(tmp_path):
+    here = PaperScene(quick=True, out=tmp_path / "here")
+    there = PaperScene(quick=True, out=tmp_path / "there")
+    with worker_pool(2) as pool:
+        there.start(pool, ["fig5.toml", "fig4.toml"])
+        assert np.array_equal(there.hysteresis.y_m, here.hysteresis.y_m)
+        assert np.array_equal(there.heights.f_n0_hz, here.heights.f_n0_hz)
+    assert set(there.timings) == set(here.timings) == {"hysteresis loop (Fig. 5)",
+                                                       "natural frequency (Fig. 4)"}
+    for figure in ("fig5-hysteresis.png", "fig4-natural-frequency.png"):
+        assert (tmp_path / "there" / figure).read_bytes() == \
+            (tmp_path / "here" / figure).read_bytes()
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"),
+                    reason="the workers see the patched run_scene only when forked")
+def test_a_scene_that_fails_in_a_worker_is_raised_where_its_result_is_asked_for(
+        tmp_path, monkeypatch):
+    def fail(scene, out):
+        raise RuntimeError(f"cannot run {scene.title[:6]}")
+
+    monkeypatch.setattr(_scene, "KERNEL_MODELS", ())
+    monkeypatch.setattr(_scene, "run_scene", fail)
+    scene = PaperScene(quick=True, out=tmp_path)
+    with pytest.raises(RuntimeError, match="cannot run Fig. 2"), worker_pool(2) as pool:
+        scene.start(pool)
+        scene.sweep  # noqa: B018
+    assert scene.runs == {} and not list(tmp_path.iterdir())

@@ -11,7 +11,7 @@ from perturb import ContactModel
 
 from .._backbone import Backbone, exact_backbone
 from .._compare import Comparison
-from ._figure import finish
+from ._figure import finish, panel_title
 
 __all__ = ["plot_comparison"]
 
@@ -24,7 +24,7 @@ def _backbone_errors(ax, comparison: Comparison) -> None:
     ax.axvline(b.contact_loss_app_m * 1e9, color="0.3", lw=0.8, ls=":", label="contact lost")
     ax.set_xlabel("$A_{pp}$ of the free oscillation [nm]")
     ax.set_ylabel("|f_series / f_exact - 1|")
-    ax.set_title("Backbone series against the exact backbone")
+    panel_title(ax, "Backbone series against the exact backbone")
     ax.legend(fontsize="small")
 
 
@@ -95,7 +95,7 @@ def _responses(ax, comparison: Comparison, pa_frac: float, backbone: Backbone | 
             ax.set_xlim(band.min() - pad, band.max() + pad)
     ax.set_xlabel("$f_e$ [Hz]")
     ax.set_ylabel("$A_{pp}$ [nm]")
-    ax.set_title(f"$P_a$ = {pa_frac:.2f} Q")
+    panel_title(ax, f"$P_a$ = {pa_frac:.2f} Q")
     ax.legend(fontsize="small")
 
 

@@ -2,11 +2,17 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
+import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import Locator
 
-__all__ = ["new_figure", "finish"]
+__all__ = ["new_figure", "finish", "panel_title", "DPI"]
+
+#: Resolution of the saved figures [dots per inch].
+DPI = 150
 
 
 def new_figure(size=(6.0, 4.2)) -> tuple[Figure, object]:
@@ -15,8 +21,97 @@ def new_figure(size=(6.0, 4.2)) -> tuple[Figure, object]:
     return figure, figure.add_subplot()
 
 
+def panel_title(ax, text: str, **kwargs) -> None:
+    """Title ``ax`` just above its top edge, where matplotlib would put it anyway.
+
+    For panels with no ticks and no offset text on top (log y axes, or linear ones in
+    nm). Left to itself, matplotlib looks for such decorations at every layout pass,
+    updating every tick of the axes to find none; ``tests/benchmarks/bench_paper.py``
+    times what that costs the Fig. 2 figure, and ``tests/test_plots.py`` holds the
+    files equal.
+    """
+    ax.set_title(text, y=1.0, **kwargs)
+
+
 def finish(figure: Figure, path: str | Path | None) -> Figure:
-    """Save ``figure`` to ``path`` (format from its suffix) when given; return it."""
-    if path is not None:
-        figure.savefig(path, dpi=150)
+    """Save ``figure`` to ``path`` (format from its suffix) when given; return it.
+
+    The figure is laid out with fewer tick objects and tick updates (the spines that
+    tick labels cover stay out of the layout; log axes keep only the minor ticks in
+    view). A PNG is drawn once on an Agg canvas (the layout, then the pixels) and
+    written from its buffer: ``savefig`` would first run a draw of its own, without
+    pixels, to lay the figure out. The report's nine PNG files are byte for byte
+    those ``savefig`` wrote without these changes (``tests/test_plots.py`` holds
+    Fig. 2 and 3 to it); ``tests/benchmarks/bench_paper.py`` times each change.
+    """
+    _spines_out_of_layout(figure)
+    _minor_log_ticks_in_view(figure)
+    if path is None:
+        return figure
+    if not isinstance(path, (str, os.PathLike)) or Path(path).suffix.lower() != ".png":
+        figure.savefig(path, dpi=DPI)
+        return figure
+    _write_png(figure, path)
     return figure
+
+
+def _spines_out_of_layout(figure: Figure) -> None:
+    """Lay the figure out without the spines whose extent the tick labels cover.
+
+    To measure a spine, constrained layout updates every tick of its axis, at each
+    of its two passes. Only the left spine has tick marks there, and the y tick
+    labels beyond them set the margin; the bottom spine stays in, for the tick marks
+    of panels whose x tick labels are hidden.
+    """
+    for ax in figure.axes:
+        for side in ("left", "right", "top"):
+            ax.spines[side].set_in_layout(False)
+
+
+class _InView(Locator):
+    """The locations of ``locator`` inside the view of its axis.
+
+    A log axis's minor locator also gives the ticks of the decades on either side of
+    the view, which matplotlib makes into tick objects, updates at every layout
+    pass and then leaves out of the drawing as outside.
+    """
+
+    def __init__(self, locator: Locator) -> None:
+        self.locator = locator
+
+    def set_axis(self, axis) -> None:
+        super().set_axis(axis)
+        self.locator.set_axis(axis)
+
+    def __call__(self):
+        locations = np.asarray(self.locator())
+        low, high = sorted(self.axis.get_view_interval())
+        slack = 1 + 1e-9  # a tick this close to an end is drawn, as matplotlib does
+        return locations[(locations >= low / slack) & (locations <= high * slack)]
+
+    def tick_values(self, vmin, vmax):
+        return self.locator.tick_values(vmin, vmax)
+
+
+def _minor_log_ticks_in_view(figure: Figure) -> None:
+    """Give every log axis only the minor ticks it draws (the files are the same)."""
+    for ax in figure.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            minor = axis.get_minor_locator()
+            if axis.get_scale() == "log" and not isinstance(minor, _InView):
+                axis.set_minor_locator(_InView(minor))
+
+
+def _write_png(figure: Figure, path: str | Path) -> None:
+    """Draw ``figure`` at ``DPI`` on an Agg canvas and write its pixels as a PNG file."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.image import imsave
+
+    canvas = FigureCanvasAgg(figure)
+    dpi = figure.dpi
+    figure.set_dpi(DPI)
+    try:
+        canvas.draw()  # the layout engine runs here, once
+        imsave(path, canvas.buffer_rgba(), format="png", origin="upper", dpi=DPI)
+    finally:
+        figure.set_dpi(dpi)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from ._figure import finish
+from ._figure import finish, panel_title
 
 __all__ = ["plot_app", "plot_extrema"]
 
@@ -24,6 +24,10 @@ def _panels(sweep, title: str):
     for ax in axes.ravel()[len(fracs):]:
         ax.set_visible(False)
     return figure, fracs, axes.ravel()
+
+
+def _title(ax, i: int, frac: float) -> None:
+    panel_title(ax, f"({_PANELS[i % 10]}) P_a = {frac:.2f} Q", fontsize=9, loc="left")
 
 
 def _resonance_marks(ax, f_n0: float, fmin: float, fmax: float) -> None:
@@ -48,7 +52,7 @@ def plot_app(sweep, path=None) -> Figure:
             ax.semilogy(f[lost], app[lost] * 1e9, ".", color=style["color"], ms=2)
         f_all = np.concatenate([r.frequency_hz for r in sweep.runs])
         _resonance_marks(ax, _f_n0_hz(sweep.model), f_all.min(), f_all.max())
-        ax.set_title(f"({_PANELS[i % 10]}) P_a = {frac:.2f} Q", fontsize=9, loc="left")
+        _title(ax, i, frac)
         ax.set_ylabel("A_pp [nm]")
         ax.grid(True, which="major", alpha=0.3)
     axes[0].legend(fontsize=7, loc="upper left")
@@ -69,7 +73,7 @@ def plot_extrema(sweep, path=None) -> Figure:
                 y = np.concatenate([np.asarray(v, float) for v in values]) * 1e9
                 ax.plot(f, y, marker, color=color, ms=2, ls="none")
         ax.axhline(0.0, color="tab:red", lw=0.6, alpha=0.6)  # below: loss of contact
-        ax.set_title(f"({_PANELS[i % 10]}) P_a = {frac:.2f} Q", fontsize=9, loc="left")
+        _title(ax, i, frac)
         ax.set_ylabel("y extrema [nm]")
     for ax in axes[-2:]:
         ax.set_xlabel("f_e [Hz]")

@@ -12,9 +12,7 @@ cached imports neither sympy nor anything that derives.
 from __future__ import annotations
 
 import hashlib
-import importlib.util
 import inspect
-import sys
 import threading
 from pathlib import Path
 from types import ModuleType
@@ -26,6 +24,7 @@ from perturb._cache import (
     CacheWarning,
     cache_dir,
     cache_key,
+    import_generated,
     usable_cache_dir,
     write_atomically,
 )
@@ -167,17 +166,7 @@ def _write(path: Path, model: ContactModel) -> None:
 
 
 def _import(path: Path, key: str) -> ModuleType:
-    name = f"_contact_kernel_{key}"
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    try:
-        spec.loader.exec_module(module)
-        _smoke(module)
-    except Exception:
-        sys.modules.pop(name, None)
-        raise
-    return module
+    return import_generated(path, f"_contact_kernel_{key}", _smoke)
 
 
 def _smoke(module: ModuleType) -> None:

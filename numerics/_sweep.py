@@ -19,10 +19,10 @@ import numpy as np
 from common import Result, Status, check_choice, lane_array, lookup, progress, result
 from perturb import ContactModel, eq26_numbers
 
+from ._codegen import sweep_driver_built
 from ._orbits import Orbits, fates
 from ._simulate import check_model
 from ._steady import DEFAULTS, check_steps, steady_states
-from ._codegen import sweep_driver_built
 from ._sweep_compiled import supported, sweep_lanes_compiled
 
 __all__ = ["SweepRun", "Sweep", "sweep", "DIRECTIONS"]

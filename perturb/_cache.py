@@ -22,10 +22,12 @@ from __future__ import annotations
 import hashlib
 import importlib.util
 import os
+import sys
 import tempfile
 import warnings
 from collections.abc import Iterable
 from pathlib import Path
+from types import ModuleType
 
 __all__ = ["CacheWarning", "cache_dir", "usable_cache_dir", "cache_key", "write_atomically",
            "MODEL_SOURCES"]
@@ -93,3 +95,19 @@ def write_atomically(path: Path, text: str) -> None:
     tmp = path.with_suffix(f".tmp{os.getpid()}")
     tmp.write_text(text)
     tmp.replace(path)
+
+
+def import_generated(path: Path, name: str, smoke) -> ModuleType:
+    """Import the generated module at ``path`` as ``name`` and call ``smoke(module)``
+    (which makes numba load its machine code); on any error the module is forgotten
+    and the error raised, for the caller to rebuild."""
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    try:
+        spec.loader.exec_module(module)
+        smoke(module)
+    except Exception:
+        sys.modules.pop(name, None)
+        raise
+    return module

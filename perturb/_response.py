@@ -47,8 +47,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from common import (Result, check_choice, check_int, check_pair, check_positive, lane_array,
-                    result)
+from common import Result, check_choice, check_int, check_pair, check_positive, lane_array, result
 
 from ._effects import EQ_2_6
 from ._model import ContactModel

@@ -30,14 +30,12 @@ Examples
 
 from __future__ import annotations
 
-import importlib.util
 import re
-import sys
 import threading
 from pathlib import Path
 from types import ModuleType
 
-from ._cache import MODEL_SOURCES, cache_key, usable_cache_dir, write_atomically
+from ._cache import MODEL_SOURCES, cache_key, import_generated, usable_cache_dir, write_atomically
 
 __all__ = ["series_kernels", "series_kernels_built", "series_source"]
 
@@ -352,17 +350,7 @@ def _intact(path: Path) -> bool:
 
 
 def _import(path: Path) -> ModuleType:
-    name = f"_contact_{path.stem}"
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    try:
-        spec.loader.exec_module(module)
-        _smoke(module)
-    except Exception:
-        sys.modules.pop(name, None)
-        raise
-    return module
+    return import_generated(path, f"_contact_{path.stem}", _smoke)
 
 
 def _smoke(module: ModuleType) -> None:

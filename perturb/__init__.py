@@ -7,7 +7,8 @@ from ``eq26_numbers``, kept on disk once derived). The perturbation series of
 Eq. 2.6 is derived to any order (``derive``), printed (``text_report``,
 ``latex_report``, ``series_json``; step by step in the paper's names:
 ``derivation_text``, ``derivation_latex``), compiled (``compile_series``) and
-solved for the frequency response (``frequency_response``); ``backbone_series``
+solved for the frequency response (``frequency_response``, whose orbits
+``series_orbits`` gives as the simulator's states); ``backbone_series``
 gives the free backbone exactly.
 """
 
@@ -52,6 +53,8 @@ _LAZY = {
     "Branch": ("._response", "Branch"),
     "Response": ("._response", "Response"),
     "frequency_response": ("._response", "frequency_response"),
+    "SeriesOrbits": ("._series_orbit", "SeriesOrbits"),
+    "series_orbits": ("._series_orbit", "series_orbits"),
 }
 
 
@@ -92,6 +95,7 @@ __all__ = [
     "PAPER_PANEL_FRACTIONS",
     "Response",
     "Series",
+    "SeriesOrbits",
     "backbone_series",
     "compile_series",
     "derivation_latex",
@@ -103,6 +107,7 @@ __all__ = [
     "paper_names",
     "parameters_with",
     "series_json",
+    "series_orbits",
     "series_symbols",
     "symbols",
     "text_report",

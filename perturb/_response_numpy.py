@@ -19,7 +19,7 @@ import numpy as np
 from ._compiled import CompiledSeries, compile_series
 from ._response import _RESONANCE_OFFSETS, _match_distance
 
-__all__ = ["solve_chunk"]
+__all__ = ["solve_chunk", "harmonics_in_drive_frame", "sample_waveform", "refined_at"]
 
 _CHUNK = 4096
 
@@ -134,17 +134,31 @@ def _illinois(formulas, values, G, Omega, lo, hi, f_lo, f_hi, iterations=80):
     return np.where(np.abs(f_lo) < np.abs(f_hi), lo, hi)
 
 
-def _waveform(formulas, values, a0, omega, Omega, samples):
-    """The reconstructed u at ``samples`` phases Omega t over a period, per lane.
+def harmonics_in_drive_frame(formulas, values, a0, omega, Omega) -> np.ndarray:
+    """H_k with u = sum_k Re(H_k exp(i k Omega t)), per lane (lanes, K + 1).
 
-    Phases are those of the excitation, u0 = A0 cos(Omega t + theta_1(omega)),
-    so that waveforms of different omega (orders) can be subtracted.
+    Phases are those of the excitation P_a cos(Omega t) (Eq. 2.2), u0 = A0
+    cos(Omega t + theta_1(omega)), so that waveforms of different omega (orders)
+    can be subtracted, and the simulator's orbit (which starts at the drive's
+    phase 0) can be started on them.
     """
     amplitudes = formulas.amplitudes(a0, omega, Omega, values.c_per_s, values.h_per_m_s2)
     per_harmonic = formulas.harmonics([np.broadcast_to(z, a0.shape) for z in amplitudes])
     theta_1 = -np.angle(omega**2 - Omega**2 + 2j * values.c_per_s * Omega)
     k = np.arange(per_harmonic.shape[-1])
-    per_harmonic *= np.exp(1j * np.multiply.outer(theta_1, k))
+    return per_harmonic * np.exp(1j * np.multiply.outer(theta_1, k))
+
+
+def _waveform(formulas, values, a0, omega, Omega, samples):
+    """The reconstructed u at ``samples`` phases Omega t over a period, per lane
+    (phases of the excitation: ``harmonics_in_drive_frame``)."""
+    return sample_waveform(harmonics_in_drive_frame(formulas, values, a0, omega, Omega),
+                           samples)
+
+
+def sample_waveform(per_harmonic: np.ndarray, samples: int) -> np.ndarray:
+    """u = sum_k Re(H_k exp(i k theta)) at ``samples`` phases theta of a period, per lane."""
+    k = np.arange(per_harmonic.shape[-1])
     # Re(z exp(i k theta)) = Re z cos(k theta) - Im z sin(k theta): two real products.
     k_theta = np.outer(k, 2 * np.pi * np.arange(samples) / samples)
     return per_harmonic.real @ np.cos(k_theta) - per_harmonic.imag @ np.sin(k_theta)
@@ -158,7 +172,12 @@ def _extrema(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _refined_extreme(u: np.ndarray, which) -> np.ndarray:
     """The extreme of periodic samples, refined by a parabola through three samples."""
     j = np.argmax(u, axis=1) if which is np.max else np.argmin(u, axis=1)
-    rows = np.arange(u.shape[0])
+    return refined_at(u, np.arange(u.shape[0]), j)
+
+
+def refined_at(u: np.ndarray, rows: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """The extreme of periodic samples u (lanes, samples) near sample ``j`` of lane
+    ``rows``: the vertex of the parabola through samples j - 1, j and j + 1."""
     y0, ym, yp = u[rows, j], u[rows, j - 1], u[rows, (j + 1) % u.shape[1]]
     curvature = ym - 2 * y0 + yp
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -22,6 +22,12 @@ depend on each other, are compared with the full model run at every point. If
 the chosen model is off by more than the tolerance anywhere, or a point did not
 settle in it, the scene runs the full model and says where.
 
+For a sweep asking for App and extrema only, the perturbation series of Eq. 2.6
+is tried first as the route (``_series_route.py``): where it is a candidate and
+within the margin of the full model on the sample, it is checked as the chosen
+model would be, from the orbit it describes at every point, and where it passes
+nothing is simulated for the scene.
+
 The change of an observable is the largest, over the points, of its difference
 from the full model divided by the curve's scale: the largest App of the curve
 (for App, the extrema and the orbit), the largest harmonic (for the spectrum);
@@ -36,10 +42,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from common import Status
-from perturb import FULL, Effects, eq26_numbers
+from perturb import EQ_2_6, FULL, Effects, eq26_numbers
 
 from ._observables import observe, orbit_observables
 from ._schema import Scene
+from ._series_route import SERIES_LABEL, series_study
 from ._studies import StudyRun, model_of, run_study
 
 __all__ = ["Selection", "select_effects", "observable_change", "SAMPLE_POINTS", "MARGIN"]
@@ -201,6 +208,9 @@ def select_effects(scene: Scene, quiet: bool = True) -> Selection:
                 chosen, chosen_s, chosen_curves = candidate, seconds, curves
                 break
     where = f"on {sample.size} of the scene's {scene.frequency_hz.size} frequencies"
+    series = _series_route(scene, sample, full, full_s, where, rows)
+    if series is not None:
+        return series
     if chosen == FULL:
         return Selection(FULL, rows, f"every effect matters {where}: the full model ran "
                                      f"(full model {full_s:.3g} s there)", "full model")
@@ -234,13 +244,50 @@ def _pointwise_check(scene, chosen, rows, times, quiet) -> Selection:
     return _verdict(scene, chosen, rows, check, max(worst.values(), default=0.0), times, study)
 
 
+def _series_route(scene, sample, full, full_s, where, rows) -> Selection | None:
+    """The series as the route, if it is a candidate (``_series_route.py``), within the
+    margin of the full model on the sample, and within the tolerance of the full model
+    at every point and through the sweep's windows; its row is added to ``rows``."""
+    margin = MARGIN * scene.tolerance
+    on_grid, why_not, _ = series_study(scene, scene.frequency_hz, margin)
+    row = {"effect": SERIES_LABEL, "change": {}, "seconds": None,
+           "verdict": f"not a candidate ({why_not})"}
+    rows.append(row)
+    if on_grid is None:
+        return None
+    on_sample, _, seconds = series_study(scene, sample, margin)
+    if on_sample is None:  # valid on the grid, so on the sample; said, should it differ
+        row["verdict"] = "not a candidate (not valid on the sample)"
+        return None
+    curves = observe(scene, on_sample.outcomes, None)
+    row.update(change=observable_change(scene.observables, full, curves), seconds=seconds)
+    if not max(row["change"].values(), default=0.0) <= margin:
+        row["verdict"] = "not taken (off the full model on the sample)"
+        return None
+    sensitive = _sensitive(sample, full) | _worst(sample, full, curves)
+    largest, check = _against_full(scene, on_grid, sensitive)
+    check += f": largest change {largest:.2e}, tolerance {scene.tolerance:g}"
+    if not largest <= scene.tolerance:
+        row["verdict"] = f"not taken ({check})"
+        return None
+    row["verdict"] = "taken: the route"
+    times = (f"time {where}: full model {full_s:.3g} s, series {seconds:.3g} s "
+             f"({full_s / max(seconds, 1e-9):.2g}x)")
+    return Selection(EQ_2_6, rows, f"ran {SERIES_LABEL}; {check}; {times}", "series", on_grid)
+
+
 def _sweep_check(scene, chosen, rows, sensitive, times, quiet) -> Selection:
-    """Run the scene's sweep with the chosen model; then the full model at every point,
-    from the chosen model's orbit there, and through a window around every sensitive
-    point, continuing from the scene's orbit before it (the path a sweep takes)."""
-    model = model_of(scene, chosen)
-    study = run_study(scene, model, quiet=quiet)
-    runs, curves = study.outcomes[0].runs, observe(scene, study.outcomes, model)
+    """Run the scene's sweep with the chosen model, and check it (``_against_full``)."""
+    study = run_study(scene, model_of(scene, chosen), quiet=quiet)
+    largest, check = _against_full(scene, study, sensitive)
+    return _verdict(scene, chosen, rows, check, largest, times, study)
+
+
+def _against_full(scene, study: StudyRun, sensitive: set[float]) -> tuple[float, str]:
+    """The full model at every point of the sweep ``study``, from its orbit there, and
+    through a window around every sensitive point, continuing from the sweep's orbit
+    before it (the path a sweep takes): the largest change, and the check in words."""
+    runs, curves = study.outcomes[0].runs, observe(scene, study.outcomes, None)
     largest, worst_at = _every_point(scene, study, curves)
     windows = [(r, first) for r, run in enumerate(runs)
                for first in _window_starts(run, sensitive)]
@@ -252,7 +299,7 @@ def _sweep_check(scene, chosen, rows, sensitive, times, quiet) -> Selection:
              f"{len(windows)} windows of {_window_length(runs[0])} points around the peaks, "
              f"jumps and sensitive points of the sweep"
              + (f" (largest change at {worst_at:g} Hz)" if worst_at is not None else ""))
-    return _verdict(scene, chosen, rows, check, largest, times, study)
+    return largest, check
 
 
 def _every_point(scene, study: StudyRun, curves) -> tuple[float, float | None]:

@@ -8,11 +8,10 @@ from pathlib import Path
 from common import note
 from perturb import FULL
 
-from ._auto import MARGIN, select_effects
+from ._auto import select_effects
 from ._observables import observe
 from ._result import SceneRun
 from ._schema import Scene, read_scene
-from ._series_route import series_row
 from ._studies import SERIES_STUDIES, model_of, run_study
 
 __all__ = ["run_scene"]
@@ -77,8 +76,6 @@ def run_scene(scene: Scene | str | Path, *, out: str | Path | None = None, json:
         note(f"{scene.title}: {scene.study} study, {model.effects.describe()} ...", quiet=quiet)
         study = run_study(scene, model, quiet=quiet)
     curves = observe(scene, study.outcomes, model)
-    if scene.auto and scene.study == "sweep":
-        rows.append(series_row(scene, curves, MARGIN))
     run = SceneRun(title=scene.title, study=scene.study,
                    effects=model.effects.__dict__.copy(), recorder=study.recorder, route=route,
                    outcomes=study.outcomes, observables=curves,

@@ -1,14 +1,19 @@
-"""The perturbation series in the table of ``effects = "auto"``: would it have done?
+"""The perturbation series as a route of ``effects = "auto"``: a sweep without simulation.
 
-For a sweep scene asking for App and extrema, the series of Eq. 2.6 (Eq. 2.7, 2.8)
-is compared with the scene's own run at every point, after the run: it is a
-candidate where every point has exactly one response of the series, valid at half
-the tolerance (its own error estimate, and contact kept); several responses at a
-point (a bent peak) make the answer depend on the sweep's path, which the series
-does not follow. The series is not taken as the route: it gives no orbit from
-which the full model could be checked at every point, and one valid response of
-the series does not exclude orbits it cannot describe (a period-2 orbit of the
-full model near 2 f_n0, where the series sees a quiet period-1 response).
+For a sweep scene asking for App and extrema, the series of Eq. 2.6 (Eq. 2.7,
+2.8, order ``SERIES_ORDER``, compiled) is a candidate route where every point of
+the scene has exactly one response of the series, valid at the selection's margin
+of the tolerance (its own error estimate, and contact kept). Several responses at
+a point (a bent peak) make the answer depend on the sweep's path, which the series
+does not follow.
+
+A candidate is given as the scene's sweep would give it (``Sweep``, one run per
+amplitude and direction), each point with the state at the drive's phase 0 of the
+orbit the series describes (``perturb.series_orbits``), so that it is checked
+against the full model as a reduced model is: the full model's steady state is
+sought from that state at every point. One valid response of the series does not
+exclude orbits it cannot describe (a period-2 orbit of the full model near
+2 f_n0, where the series sees a quiet period-1 response): the check finds them.
 """
 
 from __future__ import annotations
@@ -17,66 +22,85 @@ import time
 
 import numpy as np
 
-from perturb import eq26_numbers, frequency_response
+from common import Status
+from perturb import eq26_numbers, frequency_response, series_orbits
 
+from .._orbits import Orbits
+from .._steady import DEFAULTS
+from .._sweep import Sweep, SweepRun
 from ._schema import Scene
+from ._studies import StudyRun
 
-__all__ = ["series_row", "SERIES_ORDER", "SERIES_OBSERVABLES"]
+__all__ = ["series_study", "SERIES_ORDER", "SERIES_OBSERVABLES", "SERIES_LABEL"]
 
-#: Order of the series compared (the response's default).
+#: Order of the series taken as a route (the response's default).
 SERIES_ORDER = 6
 #: What the series gives of a sweep: App and the extrema of u(t) (Eq. 2.1: y = y0 + u).
 SERIES_OBSERVABLES = frozenset({"app", "extrema"})
-LABEL = f"the perturbation series of Eq. 2.6, order {SERIES_ORDER}, against the scene's run"
+SERIES_LABEL = f"the perturbation series of Eq. 2.6, order {SERIES_ORDER} (no simulation)"
+RECORDER = (f"the compiled series of order {SERIES_ORDER}: one response per point, its "
+            "extrema and its state at the drive's phase 0")
 
 
-def series_row(scene: Scene, curves: list[dict], margin: float) -> dict:
-    """The table's row of the series: its change from the scene's ``curves`` at every
-    point, and whether it reproduces them within the tolerance."""
-    from ._auto import observable_change
-
-    start = time.perf_counter()
-    series, why_not = _series_curves(scene, margin * scene.tolerance)
-    seconds = time.perf_counter() - start
-    if series is None:
-        return {"effect": LABEL, "change": {}, "seconds": None,
-                "verdict": f"not a candidate ({why_not})"}
-    change = observable_change(scene.observables, curves, series)
-    within = max(change.values(), default=0.0) <= scene.tolerance
-    return {"effect": LABEL, "change": change, "seconds": seconds,
-            "verdict": "reproduces the run" if within else "does not reproduce the run"}
-
-
-def _series_curves(scene: Scene, tolerance: float) -> tuple[list[dict] | None, str]:
-    """The series' curves, one per sweep run in the order ``observe`` gives them, or
-    (None, why) where it is no candidate."""
+def series_study(scene: Scene, grid: np.ndarray, tolerance: float
+                 ) -> tuple[StudyRun | None, str, float]:
+    """The series as the scene's sweep on ``grid`` (a ``StudyRun`` holding one ``Sweep``),
+    or None and why it is no candidate; and the seconds it took."""
     if scene.study != "sweep" or not SERIES_OBSERVABLES.issuperset(scene.observables):
-        return None, f"the series gives {', '.join(sorted(SERIES_OBSERVABLES))} of a sweep"
-    grid = scene.frequency_hz
+        return None, f"the series gives {', '.join(sorted(SERIES_OBSERVABLES))} of a sweep", 0.0
+    if scene.animation and scene.animation["kind"] != "sweep":
+        return None, "the slider's animation replays a simulated orbit", 0.0
+    from perturb._response_codegen import series_kernels
+
+    series_kernels(SERIES_ORDER)  # built once per order and cache, before the clock starts
+    start = time.perf_counter()
     responses = [frequency_response(grid, frac, SERIES_ORDER, parameters=scene.parameters,
-                                    tolerance=tolerance) for frac in scene.pa_frac]
+                                    tolerance=tolerance, engine="compiled")
+                 for frac in scene.pa_frac]
     for frac, response in zip(scene.pa_frac, responses):
         several = int(np.sum(response.roots_per_frequency() != 1))
         if several:
             return None, (f"at {frac:g} Q, {several} of {grid.size} frequencies have no "
-                          f"response or several (a bent peak)")
+                          f"response or several (a bent peak)"), 0.0
         invalid = int(np.sum(~response.branches[0].valid))
         if invalid:
             return None, (f"at {frac:g} Q, {invalid} of {grid.size} responses are not valid "
-                          f"at {tolerance:.2g}")
-    return _curves(scene, responses), ""
+                          f"at {tolerance:.2g}"), 0.0
+    result = _as_sweep(scene, grid, responses, start)
+    return StudyRun([result], RECORDER), "", result.elapsed_s
 
 
-def _curves(scene: Scene, responses) -> list[dict]:
-    y0 = eq26_numbers(scene.parameters).y0_m
+def _as_sweep(scene: Scene, grid: np.ndarray, responses, start: float) -> Sweep:
+    """The responses as ``sweep`` gives its runs: each amplitude in each direction."""
     direction = scene.options["direction"]
-    directions = ("up", "down") if direction == "both" else (direction,)
-    curves = []
-    for response in responses:
-        branch = response.branches[0]
-        for d in directions:
-            order = slice(None) if d == "up" else slice(None, None, -1)
-            curve = {"frequency_hz": branch.frequency_hz[order], "app_m": branch.app_m[order]}
-            curve.update(ymin_m=y0 + branch.u_min_m[order], ymax_m=y0 + branch.u_max_m[order])
-            curves.append(curve)
-    return curves
+    runs = []
+    for frac, response in zip(scene.pa_frac, responses):
+        points = _points(scene, response.branches[0], frac)
+        for d in ("up", "down") if direction == "both" else (direction,):
+            order = np.arange(grid.size) if d == "up" else np.arange(grid.size)[::-1]
+            runs.append(SweepRun(pa_frac=float(frac), direction=d, **points.take(order).columns()))
+    # The accuracy of the scene's sweep: the full model's checks run with it.
+    settings = {"frequency_hz": grid.tolist(), "pa_frac": list(scene.pa_frac),
+                "direction": direction, **DEFAULTS,
+                "steps_per_period": scene.options["steps_per_period"],
+                "app_rtol": scene.tolerance, "method": "newton", "keep_orbits": False,
+                "order": SERIES_ORDER}
+    return Sweep(model=responses[0].model, settings=settings, runs=runs,
+                 elapsed_s=time.perf_counter() - start)
+
+
+def _points(scene: Scene, branch, pa_frac: float) -> Orbits:
+    """The branch's points as steady states: period 1, settled, with the series' own
+    error estimate, and nothing simulated (no steps, no periods run)."""
+    n = branch.frequency_hz.size
+    orbit = series_orbits(branch, SERIES_ORDER, scene.parameters)
+    y0 = eq26_numbers(scene.parameters).y0_m
+    return Orbits(
+        frequency_hz=branch.frequency_hz, p_a_n=np.full(n, pa_frac * scene.parameters.Q_n),
+        status=np.full(n, Status.SUCCESS, dtype=np.int64), message=[""] * n,
+        period=np.ones(n, dtype=np.int64), ymin_m=y0 + branch.u_min_m,
+        ymax_m=y0 + branch.u_max_m, maxima_m=orbit.maxima_m, minima_m=orbit.minima_m,
+        y_start_m=orbit.y_start_m, v_start_m_s=orbit.v_start_m_s,
+        multipliers=np.full((n, 2), np.nan, dtype=complex),
+        method=np.full(n, "series", dtype=object), steps_used=np.zeros(n, dtype=np.int64),
+        periods_run=np.zeros(n, dtype=np.int64), error_estimate=branch.error_estimate)

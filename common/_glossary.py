@@ -54,7 +54,8 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "period": ("p, the period of the orbit in excitation periods (0: none found)", "1", ""),
     "multipliers": ("Floquet multipliers of the orbit (stable inside the unit circle); "
                     "JSON: {real, imag}", "1", ""),
-    "method": ("the route to a steady state: newton, march+newton, march, none", "", ""),
+    "method": ("the route to a steady state: newton, march+newton, march, none; series (a "
+               "scene's series route: nothing simulated)", "", ""),
     "extrema": ("per lane, rows (phase [periods], y [m], +1 maximum / -1 minimum)", "", ""),
     "history_phase": ("phase of each stored step, in periods since the recording began",
                       "1", ""),
@@ -227,8 +228,8 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "fps": ("frames per second of an animation", "1/s", ""),
     "recorder": ("what the simulator recorded for a scene (only what its observables need)",
                  "", ""),
-    "route": ("how a scene was computed: full model, reduced model, series (its studies) or "
-              "closed form", "", ""),
+    "route": ("how a scene was computed: full model, reduced model, series (its studies, or "
+              "chosen by effects = \"auto\") or closed form", "", ""),
     "outcomes": ("the result objects a scene's study made, as the Python API returns them",
                  "", ""),
     "selection": ("effects = \"auto\": per effect, the change of each observable when it is "
@@ -240,8 +241,8 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
                "scale (App; the largest harmonic; the contact fraction as is)", "1", ""),
     "own_change": ("the change of each observable from the model of the auto table's row "
                    "above: what the effect alone adds", "1", ""),
-    "verdict": ("kept or dropped (and why it could not be dropped); for the series, whether "
-                "it reproduces the scene's run", "", ""),
+    "verdict": ("kept or dropped (and why it could not be dropped); for the series, taken "
+                "as the route, not taken (and why) or not a candidate (and why)", "", ""),
     "seconds": ("time of a run on the auto sample", "s", ""),
     "files": ("the files a scene wrote, relative to its output folder", "", ""),
     "app": ("observable: peak-to-peak amplitude A_pp", "", "Fig. 2"),

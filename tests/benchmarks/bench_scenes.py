@@ -142,7 +142,7 @@ def auto_against_full(pa_frac: float, start: float, stop: float, count: int) -> 
     print(f"auto takes {slower:.2f}x the full model's time ("
           + ("slower: the selection runs the sample several times" if slower > 1 else "faster")
           + f"); it ran the {chosen.route}: {Effects(**chosen.effects).describe()}")
-    tried = ", ".join(f"{r['effect']} {r['seconds']:.3f} s ({r['verdict'].split()[0]})"
+    tried = ", ".join(f"{r['effect']} {r['seconds']:.3f} s ({r['verdict'].split(' (')[0]})"
                       for r in chosen.selection if r["seconds"] is not None)
     print(f"candidates on the sample: {tried}")
     print(f"its note: {chosen.selection_note}")

@@ -21,7 +21,7 @@ from common import (
     progress,
     result,
 )
-from perturb import PAPER_BAND_HZ, ContactModel
+from perturb import PAPER, PAPER_BAND_HZ, ContactModel, ContactParameters
 
 from ._compare_backbone import BackboneComparison, compare_backbones
 from ._compare_response import (
@@ -143,6 +143,7 @@ def compare(
     frequency_hz=None,
     steps_per_period: int = 128,
     tolerance: float = 0.01,
+    parameters: ContactParameters = PAPER,
     quiet: bool = True,
 ) -> Comparison:
     """Series of each order against the exact backbone and RK4 steady states.
@@ -160,6 +161,9 @@ def compare(
     tolerance : float
         Relative error bounding the backbone's range, and the difference that
         counts as the two models parting.
+    parameters : ContactParameters
+        The model's parameters (the paper's by default); the grid's default stays
+        the paper's band.
     quiet : bool
         No progress on stderr.
 
@@ -180,20 +184,22 @@ def compare(
     if np.any(np.diff(grid) <= 0):
         raise ValueError("`frequency_hz` must be strictly increasing.")
     start = time.perf_counter()
-    backbone = compare_backbones(orders, tolerance=tolerance)
+    if not isinstance(parameters, ContactParameters):
+        raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
+    backbone = compare_backbones(orders, model=ContactModel(parameters), tolerance=tolerance)
     limits = dict(zip(backbone.orders, backbone.limit_app_m))
     bar = progress(len(pa_frac) * len(MODELS), "compare: RK4 sweeps", quiet=quiet)
     curves = []
     for frac in pa_frac:
         for model in MODELS:
-            curves.append(steady_curve(grid, frac, model, steps_per_period))
+            curves.append(steady_curve(grid, frac, model, steps_per_period, parameters))
             bar.update()
     bar.close()
-    responses = [compare_response(curve, n, grid, limits[n])
+    responses = [compare_response(curve, n, grid, limits[n], parameters)
                  for curve in curves for n in backbone.orders]
     settings = {"orders": list(orders), "pa_frac": list(pa_frac),
                 "steps_per_period": steps_per_period, "tolerance": tolerance,
                 "models": {name: asdict(effects) for name, effects in MODELS.items()}}
-    return Comparison(model=ContactModel().as_dict(), settings=settings, backbone=backbone,
-                      curves=curves, responses=responses, frequency_hz=grid,
+    return Comparison(model=ContactModel(parameters).as_dict(), settings=settings,
+                      backbone=backbone, curves=curves, responses=responses, frequency_hz=grid,
                       tolerance=tolerance, elapsed_s=time.perf_counter() - start)

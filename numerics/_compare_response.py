@@ -14,7 +14,15 @@ from __future__ import annotations
 import numpy as np
 
 from common import Result, check_choice, result
-from perturb import EQ_2_6, FULL, ContactModel, eq26_numbers, frequency_response
+from perturb import (
+    EQ_2_6,
+    FULL,
+    PAPER,
+    ContactModel,
+    ContactParameters,
+    eq26_numbers,
+    frequency_response,
+)
 
 from ._orbits import Orbits
 from ._steady import steady_states
@@ -132,10 +140,12 @@ def _one_direction(grid, pa_frac, model, direction, steps) -> Orbits | str:
     return run.take(order[::-1] if direction == "down" else order)
 
 
-def steady_curve(grid, pa_frac: float, model_name: str, steps_per_period: int = 128) -> SteadyCurve:
-    """RK4 steady states of ``MODELS[model_name]`` along sweeps up and down of ``grid``."""
+def steady_curve(grid, pa_frac: float, model_name: str, steps_per_period: int = 128,
+                 parameters: ContactParameters = PAPER) -> SteadyCurve:
+    """RK4 steady states of ``MODELS[model_name]`` with ``parameters`` along sweeps up and
+    down of ``grid``."""
     check_choice("model_name", model_name, sorted(MODELS))
-    model = ContactModel(effects=MODELS[model_name])
+    model = ContactModel(parameters, MODELS[model_name])
     parts, notes = [], []
     for direction in ("up", "down"):
         found = _one_direction(grid, pa_frac, model, direction, steps_per_period)
@@ -221,16 +231,18 @@ def _peaks(states_f, states_app, series_f, series_app, f_n0) -> list[PeakCheck]:
 
 
 def compare_response(
-    curve: SteadyCurve, order: int, grid: np.ndarray, app_limit_m: float = np.inf
+    curve: SteadyCurve, order: int, grid: np.ndarray, app_limit_m: float = np.inf,
+    parameters: ContactParameters = PAPER,
 ) -> ResponseComparison:
-    """The order-N analytic response against the settled states of ``curve``.
+    """The order-N analytic response against the settled states of ``curve`` (computed
+    with ``parameters``).
 
     Each RK4 state is matched with the analytic root of its frequency nearest in
     App. The series counts as valid for the state when that root is flagged
     valid (no contact loss, next orders change it by < 1 %) and the state's App
     is within ``app_limit_m``, the range where the order's backbone holds.
     """
-    response = frequency_response(grid, curve.pa_frac, order)
+    response = frequency_response(grid, curve.pa_frac, order, parameters=parameters)
     app_table, valid_table = _responses(response, grid)
     keep = curve.settled & np.isfinite(curve.app_m)
     frequency, app = curve.frequency_hz[keep], curve.app_m[keep]
@@ -241,7 +253,7 @@ def compare_response(
     matched = np.isfinite(error) & ~unmatched
     shown = np.where(valid_table, app_table, np.nan).ravel()
     peaks = _peaks(frequency, app, np.repeat(grid, app_table.shape[1]), shown,
-                   eq26_numbers().f_n0_hz)
+                   eq26_numbers(parameters).f_n0_hz)
     return ResponseComparison(
         model_name=curve.model_name, pa_frac=curve.pa_frac, order=order, frequency_hz=frequency,
         rk4_app_m=app, contact_lost=curve.contact_lost[keep], series_app_m=series,

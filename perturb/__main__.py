@@ -40,6 +40,7 @@ from common import (
 from ._backbone_series import backbone_series
 from ._derivation import derivation_latex, derivation_text
 from ._lindstedt import derive
+from ._model_option import add_model_option, model_parameters
 from ._parameters import PAPER_BAND_HZ
 from ._printing import latex_report, series_json, text_report
 from ._response import MAX_FREQUENCIES, frequency_response
@@ -92,7 +93,8 @@ def _backbone(args: argparse.Namespace) -> None:
 def _response(args: argparse.Namespace) -> None:
     frequency_hz = np.linspace(args.fmin, args.fmax, args.points)
     note(f"response of order {args.order} at {args.points} frequencies ...", quiet=args.quiet)
-    response = frequency_response(frequency_hz, args.pa_frac, args.order)
+    response = frequency_response(frequency_hz, args.pa_frac, args.order,
+                                  parameters=model_parameters(args))
     note(f"done in {response.elapsed_s:.2f} s", quiet=args.quiet)
     if args.json:
         write_json(args.json, response)
@@ -132,6 +134,7 @@ def _parser() -> argparse.ArgumentParser:
     response_cmd.add_argument("--points", type=int_at_least(1, MAX_FREQUENCIES), default=311,
                               help="frequencies from --fmin to --fmax")
     response_cmd.add_argument("--json", metavar="FILE", type=output_file)
+    add_model_option(response_cmd)
     response_cmd.set_defaults(run=_response)
     for sub in (derive_cmd, backbone_cmd, response_cmd):
         # SUPPRESS: a --quiet given before the command is not reset here.

@@ -148,6 +148,21 @@ def test_set_overrides_the_model_on_a_command_and_refuses_unknown_names():
     assert done.returncode == 2 and "the parameters are S, c_n, m2, h_n, l, M, g" in done.stderr
 
 
+def test_set_reaches_the_analytic_response_command(tmp_path):
+    from perturb import parameters_with
+    from perturb.__main__ import main as perturb_main
+
+    out = tmp_path / "r.json"
+    assert perturb_main(["response", "--pa-frac", "0.05", "--set", "m2=1.5", "--set", "l=0.5",
+                         "--fmin", "5000", "--fmax", "9000", "--points", "5", "--quiet",
+                         "--json", str(out)]) == 0
+    written = load(out)
+    expected = frequency_response(np.linspace(5000.0, 9000.0, 5), 0.05,
+                                  parameters=parameters_with({"m2": 1.5, "l": 0.5}))
+    assert written.model["parameters"]["m2"] == 1.5
+    np.testing.assert_array_equal(written.branches[0].app_m, expected.branches[0].app_m)
+
+
 # --- items 1, 2: the scene runs what the API runs, and records only what is asked ----------
 
 def test_a_sweep_scene_equals_the_api_call_bit_for_bit():

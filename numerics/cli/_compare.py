@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from common import int_at_least, nonnegative_float, output_file
+from perturb._model_option import add_model_option, model_parameters
 
 __all__ = ["add_compare_parser"]
 
@@ -23,6 +24,7 @@ def add_compare_parser(sub) -> None:
     parser.add_argument("--plot", metavar="FILE.png", type=output_file,
                         help="draw the comparison there")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    add_model_option(parser)
     parser.set_defaults(run=_compare)
 
 
@@ -31,7 +33,8 @@ def _compare(args: argparse.Namespace) -> int:
 
     # --orders and --pa-frac are checked by their argparse types (exit 2, naming
     # the option); compare() checks them again for callers from Python.
-    result = compare(sorted(set(args.orders)), sorted(set(args.pa_frac)), quiet=args.quiet)
+    result = compare(sorted(set(args.orders)), sorted(set(args.pa_frac)),
+                     parameters=model_parameters(args), quiet=args.quiet)
     if args.json:
         result.to_json(args.json)
     print(result)

@@ -8,11 +8,11 @@ import numpy as np
 
 from common import int_at_least, nonnegative_float, note, output_file, positive_float
 from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
+from perturb._model_option import add_model_option, model_parameters
 
 from .._attractors import attractors
 from .._steady import DEFAULTS
 from .._sweep import DIRECTIONS, MAX_STATES, sweep
-from ._model import add_model_option, model_parameters
 
 __all__ = ["add_sweep_parser", "add_attractors_parser"]
 

@@ -274,9 +274,6 @@ class _Reader:
         study = STUDIES[kind]
         options = self.options(kind, study, study_table)
         overrides = self.model(data.get("model", {}))
-        if overrides and kind == "comparison":
-            self.fail("model", "cannot be changed in a comparison study (it compares with the "
-                               "paper's model); use an analytic_response and a sweep scene")
         parameters = self.parameters(overrides)
         effects = self.effects(data.get("effects", _DEFAULT_EFFECTS.get(kind, "full")), study,
                                kind)

@@ -138,7 +138,8 @@ def _comparison(scene, model, grid, quiet) -> StudyRun:
     from .._compare import compare
 
     result = compare(scene.options["orders"], scene.pa_frac, frequency_hz=grid,
-                     steps_per_period=scene.options["steps_per_period"], quiet=quiet)
+                     steps_per_period=scene.options["steps_per_period"],
+                     parameters=model.parameters, quiet=quiet)
     return StudyRun([result], "series, exact backbone, and RK4 steady states of Eq. 2.6 and "
                               "of the full model")
 

@@ -1,10 +1,13 @@
-"""`--set NAME=VALUE`: the model's parameters on every command, as in a scene's [model]."""
+"""`--set NAME=VALUE`: the model's parameters on every command that depends on them
+(numerics' commands, `perturb response`), as in a scene's [model]."""
 
 from __future__ import annotations
 
 import argparse
 
 from common import name_value
+
+from ._parameters import parameters_with
 
 __all__ = ["add_model_option", "model_parameters"]
 
@@ -19,8 +22,6 @@ def add_model_option(parser: argparse.ArgumentParser) -> None:
 
 def model_parameters(args: argparse.Namespace):
     """The parameters that ``--set`` asks for (the paper's without it), or exit 2."""
-    from perturb import parameters_with
-
     try:
         return parameters_with(dict(args.model_set))
     except ValueError as error:

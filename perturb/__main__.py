@@ -37,13 +37,12 @@ from common import (
     write_json,
 )
 
-from ._backbone_series import backbone_series
-from ._derivation import derivation_latex, derivation_text
-from ._lindstedt import derive
 from ._model_option import add_model_option, model_parameters
 from ._parameters import PAPER_BAND_HZ
-from ._printing import latex_report, series_json, text_report
 from ._response import MAX_FREQUENCIES, frequency_response
+
+# derive and backbone import sympy in their commands: `response` with its order's
+# kernels built needs none of it.
 
 #: Above this order the closed forms take minutes to simplify and print; measured with
 #: `python -m perturb derive --order N` on the 2-core machine (see the note).
@@ -52,6 +51,10 @@ SLOW_PRINT_EXAMPLE = "measured: order 16 7 s, order 20 17 s, order 24 26 s"
 
 
 def _derive(args: argparse.Namespace) -> None:
+    from ._derivation import derivation_latex, derivation_text
+    from ._lindstedt import derive
+    from ._printing import latex_report, series_json, text_report
+
     stages = []  # (stage, seconds): every stage that ran, timed on its own
 
     def timed(stage, work):
@@ -82,6 +85,8 @@ def _derive(args: argparse.Namespace) -> None:
 
 
 def _backbone(args: argparse.Namespace) -> None:
+    from ._backbone_series import backbone_series
+
     series = backbone_series(args.order)
     note(f"backbone series to order {args.order} in {series.elapsed_s:.3f} s", quiet=args.quiet)
     if args.json:

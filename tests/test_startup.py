@@ -16,12 +16,14 @@ import sys
 import pytest
 import sympy as sp
 
-#: A command run in this process, then the heavy modules it imported, on stderr.
+#: A command (``python -m PACKAGE ARGS``: PACKAGE, then ARGS) run in this process, then
+#: the heavy modules it imported, on stderr.
 WHICH_MODULES = """
 import runpy, sys
-sys.argv = ["numerics", *sys.argv[1:]]
+package = sys.argv[1]
+sys.argv = [package, *sys.argv[2:]]
 try:
-    runpy.run_module("numerics", run_name="__main__", alter_sys=True)
+    runpy.run_module(package, run_name="__main__", alter_sys=True)
 except SystemExit as done:
     assert not done.code, done.code
 heavy = ("sympy", "scipy", "scipy.optimize", "numba", "matplotlib")
@@ -36,19 +38,34 @@ COMMANDS = {
                    {"sympy", "scipy.optimize", "matplotlib"}),
     "sweep": (["sweep", "--pa-frac", "0.05", "--points", "3", "--direction", "up", "--quiet"],
               {"sympy", "scipy.optimize", "matplotlib"}),
+    # A scene that draws a figure: matplotlib, but neither sympy nor scipy.optimize (a
+    # review found the series' route and the backbone's figure importing them).
+    "scene": (["scene", "paper_checks/scenes/examples/bouncing.toml", "--quiet", "--out",
+               "{tmp}"], {"sympy", "scipy.optimize"}),
+    # The analytic response with its order's kernels built: no derivation.
+    "perturb response": (["--perturb", "response", "--pa-frac", "0.05", "--points", "5",
+                          "--quiet"], {"sympy", "scipy.optimize", "matplotlib"}),
 }
 
 
 def imported(args: list[str], env: dict | None = None) -> set[str]:
-    """The heavy modules that ``python -m numerics ARGS`` imported."""
-    done = subprocess.run([sys.executable, "-c", WHICH_MODULES, *args], capture_output=True,
-                          text=True, check=True, env=env)
+    """The heavy modules that ``python -m numerics ARGS`` (``--perturb`` first: ``python -m
+    perturb``) imported."""
+    package = "perturb" if args[:1] == ["--perturb"] else "numerics"
+    args = args[1:] if package == "perturb" else args
+    done = subprocess.run([sys.executable, "-c", WHICH_MODULES, package, *args],
+                          capture_output=True, text=True, check=True, env=env)
     return set(done.stderr.strip().splitlines()[-1].split()) - {"imported:"}
 
 
 @pytest.mark.parametrize("name", sorted(COMMANDS))
-def test_a_warm_command_does_not_import_sympy(name):
+def test_a_warm_command_does_not_import_sympy(name, tmp_path):
     args, forbidden = COMMANDS[name]
+    args = [arg.replace("{tmp}", str(tmp_path)) for arg in args]
+    if name == "perturb response":
+        from perturb._response_codegen import series_kernels
+
+        series_kernels(6)  # built once per cache: the warm case
     imported(args)  # fills the cache when it is empty (that run may import anything)
     assert not imported(args) & forbidden
 
@@ -69,7 +86,7 @@ def test_importing_the_packages_imports_nothing_heavy():
     assert done.stdout.split() == []
 
 
-@pytest.mark.parametrize("package", ["perturb", "numerics"])
+@pytest.mark.parametrize("package", ["perturb", "numerics", "numerics.plots"])
 def test_every_public_name_is_importable(package):
     # The names are imported at first use: each must still be found, and listed.
     code = (f"import {package}\nfor name in {package}.__all__:\n"

@@ -10,19 +10,39 @@ The figures and animations of scenes take plain numpy arrays (SI units) instead:
 ``animate_sweep`` write a GIF and return its path.
 """
 
-from ._animation import animate_slider, animate_sweep
-from ._backbone import plot_backbone
-from ._census import plot_census
-from ._compare import plot_comparison
-from ._hysteresis import plot_hysteresis
-from ._natural_frequency import plot_natural_frequency
-from ._observables import (
-    plot_contact_fraction,
-    plot_phase_portrait,
-    plot_spectrum,
-    plot_time_history,
-)
-from ._sweep import plot_app, plot_extrema
+import importlib
+
+# Each figure's module is imported at first use (PEP 562): the comparison's and the
+# backbone's figures import the exact backbone (scipy.optimize, sympy), which a scene
+# drawing a resonance curve does not need.
+_LAZY = {
+    "animate_slider": "._animation",
+    "animate_sweep": "._animation",
+    "plot_backbone": "._backbone",
+    "plot_census": "._census",
+    "plot_comparison": "._compare",
+    "plot_hysteresis": "._hysteresis",
+    "plot_natural_frequency": "._natural_frequency",
+    "plot_contact_fraction": "._observables",
+    "plot_phase_portrait": "._observables",
+    "plot_spectrum": "._observables",
+    "plot_time_history": "._observables",
+    "plot_app": "._sweep",
+    "plot_extrema": "._sweep",
+}
+
+
+def __getattr__(name: str):
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(_LAZY[name], __name__), name)
+    globals()[name] = value  # imported once
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
     "animate_slider",

@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from matplotlib.figure import Figure
 
-from .._backbone import Backbone
 from ._figure import finish, new_figure
+
+if TYPE_CHECKING:  # the exact backbone imports scipy.optimize: not for every figure
+    from .._backbone import Backbone
 
 __all__ = ["plot_backbone"]
 

@@ -23,7 +23,7 @@ import time
 import numpy as np
 
 from common import Status
-from perturb import eq26_numbers, frequency_response, series_orbits
+from perturb import eq26_numbers, frequency_response
 
 from .._orbits import Orbits
 from .._steady import DEFAULTS
@@ -92,6 +92,8 @@ def _as_sweep(scene: Scene, grid: np.ndarray, responses, start: float) -> Sweep:
 def _points(scene: Scene, branch, pa_frac: float) -> Orbits:
     """The branch's points as steady states: period 1, settled, with the series' own
     error estimate, and nothing simulated (no steps, no periods run)."""
+    from perturb import series_orbits  # its harmonics are sympy's lambdified formulas
+
     n = branch.frequency_hz.size
     orbit = series_orbits(branch, SERIES_ORDER, scene.parameters)
     y0 = eq26_numbers(scene.parameters).y0_m

@@ -39,7 +39,9 @@ _TEMPLATE = Path(__file__).with_name("_kernel_template.py")
 _SWEEP_TEMPLATE = Path(__file__).with_name("_sweep_template.py")
 #: The files whose text shapes a kernel module (a change to one generates it again).
 _SOURCES = (*MODEL_SOURCES, Path(__file__), _TEMPLATE, _SWEEP_TEMPLATE,
-            Path(__file__).with_name("_steady.py"))
+            Path(__file__).with_name("_steady.py"),
+            # the sweep template freezes common.Status's values into the machine code
+            Path(__file__).parents[1] / "common" / "_status.py")
 _LOADED: dict[tuple, ModuleType] = {}
 _LOCK = threading.Lock()
 
@@ -138,6 +140,14 @@ def sweep_driver_built(model: ContactModel) -> bool:
     of ``sweep_lanes`` beside the module): compiling it takes some 25-40 s once."""
     path = usable_cache_dir() / f"kernel_{_cache_key(model)}.py"
     return _intact(path) and any(path.parent.glob(f"__pycache__/{path.stem}.sweep_lanes-*.nbi"))
+
+
+def forget_sweep_driver(model: ContactModel) -> None:
+    """Remove the compiled sweep driver's machine code of ``model`` from the cache (numba's
+    files of ``sweep_lanes``), so that it is compiled again when next asked for."""
+    path = usable_cache_dir() / f"kernel_{_cache_key(model)}.py"
+    for stale in path.parent.glob(f"__pycache__/{path.stem}.sweep_lanes-*"):
+        stale.unlink(missing_ok=True)
 
 
 def _checksum(body: str) -> str:

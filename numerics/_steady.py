@@ -352,9 +352,7 @@ def steady_states(
                               max_periods=max_periods, method=method, refinements=refinements)
     tol, app_rtol = accuracy["tol"], accuracy["app_rtol"]
     max_periods, refinements = accuracy["max_periods"], accuracy["refinements"]
-    guesses = np.atleast_1d(np.asarray(period_guess))
-    if not np.isin(guesses, PERIODS_TRIED).all():
-        raise ValueError(f"`period_guess` must be one of {PERIODS_TRIED}, got {period_guess!r}.")
+    guesses = check_period_guess(period_guess)
     f_e, p_a, y, v, guess, span = initial_lanes(
         frequency_hz, p_a_n, y_init_m, v_init_m_s, model, period_guess=guesses.astype(np.int64),
         app_guess_m=lane_array("app_guess_m", 0.0 if app_guess_m is None else app_guess_m))
@@ -400,6 +398,15 @@ def check_accuracy(*, steps_per_period, tol, app_rtol, max_periods, method,
             "max_periods": None if max_periods is None else check_int("max_periods",
                                                                       max_periods),
             "method": method, "refinements": refinements}
+
+
+def check_period_guess(period_guess) -> np.ndarray:
+    """The periods to try first, each one of PERIODS_TRIED, or a ValueError (an orbit that
+    did not settle, period 0, cannot seed a steady state)."""
+    guesses = np.atleast_1d(np.asarray(period_guess))
+    if not np.isin(guesses, PERIODS_TRIED).all():
+        raise ValueError(f"`period_guess` must be one of {PERIODS_TRIED}, got {period_guess!r}.")
+    return guesses
 
 
 def check_steps(steps_per_period, refinements: int = 0) -> None:

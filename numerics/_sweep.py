@@ -13,17 +13,18 @@ default, "auto", takes it only where it is built already.
 from __future__ import annotations
 
 import time
+import warnings
 
 import numpy as np
 
 from common import Result, Status, check_choice, lane_array, lookup, progress, result
 from perturb import ContactModel, eq26_numbers
 
-from ._codegen import sweep_driver_built
+from ._codegen import CacheWarning, forget_sweep_driver, sweep_driver_built
 from ._orbits import Orbits, fates
 from ._simulate import check_model
 from ._steady import DEFAULTS, check_steps, steady_states
-from ._sweep_compiled import supported, sweep_lanes_compiled
+from ._sweep_compiled import DriverUnusable, supported, sweep_lanes_compiled
 
 __all__ = ["SweepRun", "Sweep", "sweep", "DIRECTIONS"]
 
@@ -178,11 +179,21 @@ def _sweep_lanes(freq, p_a, model, quiet, start: Orbits | None = None, *,
     ``steady_states``; both give the same points (tests/test_sweep_compiled.py).
     """
     check_choice("engine", engine, ENGINES)
+    chosen = engine
     if engine == "auto":
         engine = "compiled" if sweep_driver_built(model) else "python"
     if engine == "compiled" and supported(accuracy):
         bar = progress(freq.shape[1], "sweep", quiet=quiet)
-        points = sweep_lanes_compiled(freq, p_a, model, start, **accuracy)
+        try:
+            points = sweep_lanes_compiled(freq, p_a, model, start, **accuracy)
+        except DriverUnusable as error:
+            forget_sweep_driver(model)  # the next call that asks for it compiles it again
+            if chosen != "auto":
+                raise
+            warnings.warn(f"{error}; its cache files are removed, this sweep takes the "
+                          f"Python route", CacheWarning, stacklevel=2)
+            bar.close()
+            return _sweep_lanes_python(freq, p_a, model, quiet, start, **accuracy)
         bar.update(freq.shape[1])
         bar.close()
         return points

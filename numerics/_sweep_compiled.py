@@ -19,13 +19,19 @@ from ._orbits import Orbits
 from ._steady import (
     MAX_STEPS,
     check_accuracy,
+    check_period_guess,
     lane_steps,
     not_settled_message,
     settling_cap,
     under_resolved_message,
 )
 
-__all__ = ["sweep_lanes_compiled", "supported"]
+__all__ = ["sweep_lanes_compiled", "supported", "DriverUnusable"]
+
+
+class DriverUnusable(RuntimeError):
+    """The compiled driver raised on checked inputs: its cached machine code is broken
+    (a truncated or garbled numba cache file), not the call."""
 
 
 def supported(accuracy: dict) -> bool:
@@ -55,16 +61,21 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
     if start is None:  # rest, and no orbit to continue before the first point
         y, v = np.full(lanes, numbers.y0_m), np.zeros(lanes)
         app, period, continued = np.zeros(lanes), np.ones(lanes, dtype=np.int64), False
-    else:
+    else:  # settled orbits only, as steady_states asks of its seeds on the Python route
+        period = check_period_guess(start.period).astype(np.int64)
         y, v = start.y_start_m.astype(float), start.v_start_m_s.astype(float)
-        app, period, continued = start.app_m.astype(float), start.period.astype(np.int64), True
+        app, continued = start.app_m.astype(float), True
     y, v, app = (np.ascontiguousarray(a) for a in (y, v, app))
     table_steps, table_offset, tables = _drive_tables(steps, refinements)
-    fl, it, mult, extrema, counts = kernels.sweep_lanes(
-        freq, p_a, steps, settling_cap(freq, numbers, max_periods),
-        divergence_limit(model, freq), y, v, app, period, continued, method == "newton",
-        float(tol), -1.0 if app_rtol is None else float(app_rtol), int(refinements), MAX_STEPS,
-        float(numbers.y0_m or 1.0), tables, table_steps, table_offset)
+    try:
+        fl, it, mult, extrema, counts = kernels.sweep_lanes(
+            freq, p_a, steps, settling_cap(freq, numbers, max_periods),
+            divergence_limit(model, freq), y, v, app, period, continued, method == "newton",
+            float(tol), -1.0 if app_rtol is None else float(app_rtol), int(refinements),
+            MAX_STEPS, float(numbers.y0_m or 1.0), tables, table_steps, table_offset)
+    except Exception as error:  # the inputs are checked: numba could not load the driver
+        raise DriverUnusable(f"the compiled sweep driver could not be loaded ({error!r})") \
+            from error
     return _orbits(kernels, freq, np.broadcast_to(p_a, freq.T.shape).T, fl, it, mult, extrema,
                    counts, app_rtol, numbers.fastest_rate_per_s)
 

@@ -22,6 +22,7 @@ from __future__ import annotations
 import hashlib
 import importlib.util
 import os
+import stat
 import sys
 import tempfile
 import warnings
@@ -67,13 +68,35 @@ def usable_cache_dir() -> Path:
     folder = cache_dir()
     if _writable(folder):
         return folder
-    fallback = Path(tempfile.gettempdir()) / f"contact-resonances-{os.getuid()}" / "kernels"
+    fallback = _private_temporary_folder() / "kernels"
     if folder not in _WARNED:
         _WARNED.add(folder)
         warnings.warn(f"kernel cache {str(folder)!r} is not writable; using {str(fallback)!r}",
                       CacheWarning, stacklevel=3)
-    fallback.mkdir(parents=True, exist_ok=True)
+    fallback.mkdir(exist_ok=True)
     return fallback
+
+
+_PRIVATE: list[Path] = []  # this process's own temporary folder, once made
+
+
+def _private_temporary_folder() -> Path:
+    """A temporary folder that only this user can write: ``contact-resonances-UID`` in the
+    system's temporary folder, if this user owns it, it is no link and no one else may
+    write it (the cache's files are imported and unpickled: another user's files there
+    would run their code); else a new folder of this process's own."""
+    shared = Path(tempfile.gettempdir()) / f"contact-resonances-{os.getuid()}"
+    try:
+        shared.mkdir(mode=0o700, exist_ok=True)
+        status = os.lstat(shared)
+        if (stat.S_ISDIR(status.st_mode) and status.st_uid == os.getuid()
+                and not status.st_mode & 0o022):
+            return shared
+    except OSError:
+        pass
+    if not _PRIVATE:
+        _PRIVATE.append(Path(tempfile.mkdtemp(prefix="contact-resonances-")))
+    return _PRIVATE[0]
 
 
 def _sympy_release() -> str:

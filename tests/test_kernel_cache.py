@@ -13,6 +13,7 @@ paper's model and another one, and a damaged numbers file is derived again.
 """
 
 import json
+import os
 import warnings
 
 import pytest
@@ -86,6 +87,20 @@ def test_an_unwritable_cache_folder_falls_back_with_one_warning(monkeypatch):
     assert [w.category for w in caught] == [_codegen.CacheWarning]
     assert "not writable" in str(caught[0].message)
     assert _writable(folder) and not str(folder).startswith("/proc")
+
+
+def test_the_fallback_folder_is_not_one_that_another_user_can_write(monkeypatch, tmp_path):
+    # A review found the fallback at a predictable path in /tmp, used as found: another
+    # user could create it first and plant files that this one would import. A folder
+    # others may write is passed over for a new one of this process's own.
+    monkeypatch.setattr(_cache.tempfile, "tempdir", str(tmp_path))
+    monkeypatch.setattr(_cache, "_PRIVATE", [])
+    shared = tmp_path / f"contact-resonances-{os.getuid()}"
+    assert _cache._private_temporary_folder() == shared  # made here: this user's own
+    assert shared.stat().st_mode & 0o777 == 0o700
+    shared.chmod(0o777)  # as if planted by someone else, open to all
+    other = _cache._private_temporary_folder()
+    assert other != shared and other.parent == tmp_path and other.stat().st_mode & 0o077 == 0
 
 
 def test_a_garbled_numba_cache_is_rebuilt(cache):

@@ -142,3 +142,47 @@ def test_auto_walks_in_python_until_the_driver_is_built(tmp_path, monkeypatch):
     python = sweep([1300.0, 1400.0], [0.05], direction="up", model=model, engine="python")
     assert_same_sweep(auto, python)
     assert not list(tmp_path.glob("kernels/__pycache__/*.sweep_lanes-*.nbi"))
+
+
+def test_an_unsettled_seed_is_refused_by_both_engines():
+    # A review found the compiled walk marching on from a seed that had not settled (period
+    # 0, a NaN state) where the Python walk refuses it: both refuse it now.
+    first = sweep([1300.0], [0.05], direction="up")
+    start = first.runs[0].take([0])
+    start.period[:] = 0
+    accuracy = dict(steps_per_period="auto", tol=1e-6, app_rtol=5e-3, max_periods=None,
+                    method="newton", refinements=2, keep_orbits=False)
+    for engine in ("compiled", "python"):
+        with pytest.raises(ValueError, match="`period_guess` must be one of"):
+            _sweep_lanes(np.array([[1310.0]]), np.array([0.05 * PAPER.Q_n]), ContactModel(),
+                         True, start=start, engine=engine, **accuracy)
+
+
+def test_a_broken_driver_cache_falls_back_to_python_and_is_removed(monkeypatch):
+    # A review truncated the driver's numba cache file: every default sweep then raised
+    # UnpicklingError, for ever. Now "auto" warns, removes the driver's files (here: a
+    # stand-in, so that the other tests keep the built driver) and takes the Python walk;
+    # engine="compiled" raises.
+    import pickle
+
+    from numerics import _codegen
+    from numerics import _sweep as sweep_module
+    from numerics._codegen import CacheWarning
+    from numerics._sweep_compiled import DriverUnusable
+
+    model = ContactModel()
+    kernels = _codegen.compiled_kernels(model)
+
+    def truncated(*args):
+        raise pickle.UnpicklingError("pickle data was truncated")
+
+    forgotten = []
+    monkeypatch.setattr(kernels, "sweep_lanes", truncated)
+    monkeypatch.setattr(sweep_module, "sweep_driver_built", lambda model: True)
+    monkeypatch.setattr(sweep_module, "forget_sweep_driver", forgotten.append)
+    with pytest.warns(CacheWarning, match="could not be loaded"):
+        auto = sweep([1300.0, 1400.0], [0.05], direction="up")
+    assert_same_sweep(auto, sweep([1300.0, 1400.0], [0.05], direction="up", engine="python"))
+    assert forgotten == [model]
+    with pytest.raises(DriverUnusable, match="UnpicklingError"):
+        sweep([1300.0, 1400.0], [0.05], direction="up", engine="compiled")

@@ -185,7 +185,7 @@ def _sweep_lanes(freq, p_a, model, quiet, start: Orbits | None = None, *,
     if engine == "compiled" and supported(accuracy):
         bar = progress(freq.shape[1], "sweep", quiet=quiet)
         try:
-            points = sweep_lanes_compiled(freq, p_a, model, start, **accuracy)
+            points = sweep_lanes_compiled(freq, p_a, model, start, done=bar.update, **accuracy)
         except DriverUnusable as error:
             forget_sweep_driver(model)  # the next call that asks for it compiles it again
             if chosen != "auto":
@@ -194,7 +194,6 @@ def _sweep_lanes(freq, p_a, model, quiet, start: Orbits | None = None, *,
                           f"Python route", CacheWarning, stacklevel=2)
             bar.close()
             return _sweep_lanes_python(freq, p_a, model, quiet, start, **accuracy)
-        bar.update(freq.shape[1])
         bar.close()
         return points
     return _sweep_lanes_python(freq, p_a, model, quiet, start, **accuracy)

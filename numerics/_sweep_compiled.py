@@ -8,6 +8,8 @@ builds point by point with ``steady_states``, messages included.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from common import Status
@@ -40,10 +42,18 @@ def supported(accuracy: dict) -> bool:
     return not accuracy.get("keep_orbits", False)
 
 
+#: The walk is cut into blocks of points lasting about this long [s], so that the
+#: progress bar moves and Ctrl-C is heard between them (the driver cannot be
+#: interrupted inside a call).
+BLOCK_SECONDS = 0.25
+
+
 def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps_per_period,
                          tol, app_rtol, max_periods, method, refinements,
-                         keep_orbits=False) -> Orbits:
-    """``_sweep._sweep_lanes`` in one compiled call: the points, frequency by frequency."""
+                         keep_orbits=False, done=None) -> Orbits:
+    """``_sweep._sweep_lanes`` in compiled calls, a block of points at a time (each block
+    continues from the last good orbit of every lane, as a point does): the points,
+    frequency by frequency. ``done(points)`` is called after each block."""
     if keep_orbits:
         raise ValueError("the compiled sweep does not keep orbits; use the Python route")
     accuracy = check_accuracy(steps_per_period=steps_per_period, tol=tol, app_rtol=app_rtol,
@@ -65,19 +75,67 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
         period = check_period_guess(start.period).astype(np.int64)
         y, v = start.y_start_m.astype(float), start.v_start_m_s.astype(float)
         app, continued = start.app_m.astype(float), True
-    y, v, app = (np.ascontiguousarray(a) for a in (y, v, app))
+    seed = [np.ascontiguousarray(a) for a in (y, v, app, period)]
     table_steps, table_offset, tables = _drive_tables(steps, refinements)
+    cap, limit = settling_cap(freq, numbers, max_periods), divergence_limit(model, freq)
+    settings = (method == "newton", float(tol), -1.0 if app_rtol is None else float(app_rtol),
+                int(refinements), MAX_STEPS, float(numbers.y0_m or 1.0), tables, table_steps,
+                table_offset)
+    blocks, first, size = [], 0, 1
+    while first < freq.shape[1]:
+        block = slice(first, min(first + size, freq.shape[1]))
+        started = time.perf_counter()
+        points = block.stop - block.start
+        out = _driver(kernels, freq[:, block], p_a, steps[:, block], cap[:, block],
+                      limit[:, block], *seed, continued, settings)
+        p_a_table = np.broadcast_to(p_a, (points, lanes)).T
+        blocks.append(_orbits(kernels, freq[:, block], p_a_table, *out, app_rtol,
+                              numbers.fastest_rate_per_s))
+        seed, continued = _last_good(kernels, out[0], out[1], seed), True
+        if done is not None:
+            done(points)
+        per_point = (time.perf_counter() - started) / points
+        first, size = block.stop, max(1, int(BLOCK_SECONDS / max(per_point, 1e-9)))
+    return Orbits.stack(blocks)
+
+
+def _driver(kernels, freq, p_a, steps, cap, limit, y, v, app, period, continued, settings):
+    """One compiled call of the driver on a block of points (contiguous copies)."""
+    block = [np.ascontiguousarray(a) for a in (freq, steps, cap, limit)]
     try:
-        fl, it, mult, extrema, counts = kernels.sweep_lanes(
-            freq, p_a, steps, settling_cap(freq, numbers, max_periods),
-            divergence_limit(model, freq), y, v, app, period, continued, method == "newton",
-            float(tol), -1.0 if app_rtol is None else float(app_rtol), int(refinements),
-            MAX_STEPS, float(numbers.y0_m or 1.0), tables, table_steps, table_offset)
+        return kernels.sweep_lanes(block[0], p_a, block[1], block[2], block[3], y, v, app,
+                                   period, continued, *settings)
+    except SystemError as error:  # a Ctrl-C during the call surfaces as this, chained
+        if _interrupted(error):
+            raise KeyboardInterrupt from None
+        raise DriverUnusable(f"the compiled sweep driver could not run ({error!r})") \
+            from error
     except Exception as error:  # the inputs are checked: numba could not load the driver
         raise DriverUnusable(f"the compiled sweep driver could not be loaded ({error!r})") \
             from error
-    return _orbits(kernels, freq, np.broadcast_to(p_a, freq.T.shape).T, fl, it, mult, extrema,
-                   counts, app_rtol, numbers.fastest_rate_per_s)
+
+
+def _interrupted(error: BaseException | None) -> bool:
+    while error is not None:
+        if isinstance(error, KeyboardInterrupt):
+            return True
+        error = error.__cause__ or error.__context__
+    return False
+
+
+def _last_good(kernels, fl, it, seed) -> list[np.ndarray]:
+    """Each lane's seed after a block: its last settled or under-resolved orbit (the
+    driver's rule for the next point), or the seed it came in with."""
+    y, v, app, period = (a.copy() for a in seed)
+    status = it[:, :, kernels.I_STATUS]
+    good = (status == Status.SUCCESS) | (status == Status.UNDER_RESOLVED)
+    lanes = np.flatnonzero(good.any(axis=1))
+    last = good.shape[1] - 1 - np.argmax(good[lanes, ::-1], axis=1)
+    row = fl[lanes, last]
+    y[lanes], v[lanes] = row[:, kernels.F_Y], row[:, kernels.F_V]
+    app[lanes] = row[:, kernels.F_YMAX] - row[:, kernels.F_YMIN]
+    period[lanes] = it[lanes, last, kernels.I_PERIOD]
+    return [y, v, app, period]
 
 
 def _drive_tables(steps: np.ndarray, refinements: int):

@@ -26,6 +26,9 @@ from perturb import EQ_2_6, FULL, PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, C
 ESTIMATE_RTOL = 1e-13
 #: The multipliers: measured at most 7.8e-16 relative, 5.8e-16 absolute (a few ulp).
 MULTIPLIER_RTOL, MULTIPLIER_ATOL = 1e-14, 1e-15
+#: A sweep's default accuracy, as _sweep_lanes takes it.
+ACCURACY = dict(steps_per_period="auto", tol=1e-6, app_rtol=5e-3, max_periods=None,
+                method="newton", refinements=2, keep_orbits=False)
 
 
 def assert_same_points(compiled, python):
@@ -102,10 +105,8 @@ def test_continuing_from_given_orbits_matches_the_python_walk():
     start = first.runs[0].stack([r.take([0]) for r in first.runs])
     freq = np.array([[1310.0, 1320.0, 1330.0], [1290.0, 1280.0, 1270.0]])
     p_a = np.array([0.05, 0.2]) * PAPER.Q_n
-    accuracy = dict(steps_per_period="auto", tol=1e-6, app_rtol=5e-3, max_periods=None,
-                    method="newton", refinements=2, keep_orbits=False)
-    compiled = _sweep_lanes(freq, p_a, model, True, start=start, engine="compiled", **accuracy)
-    python = _sweep_lanes(freq, p_a, model, True, start=start, engine="python", **accuracy)
+    compiled = _sweep_lanes(freq, p_a, model, True, start=start, engine="compiled", **ACCURACY)
+    python = _sweep_lanes(freq, p_a, model, True, start=start, engine="python", **ACCURACY)
     assert_same_points(compiled, python)
 
 
@@ -150,12 +151,10 @@ def test_an_unsettled_seed_is_refused_by_both_engines():
     first = sweep([1300.0], [0.05], direction="up")
     start = first.runs[0].take([0])
     start.period[:] = 0
-    accuracy = dict(steps_per_period="auto", tol=1e-6, app_rtol=5e-3, max_periods=None,
-                    method="newton", refinements=2, keep_orbits=False)
     for engine in ("compiled", "python"):
         with pytest.raises(ValueError, match="`period_guess` must be one of"):
             _sweep_lanes(np.array([[1310.0]]), np.array([0.05 * PAPER.Q_n]), ContactModel(),
-                         True, start=start, engine=engine, **accuracy)
+                         True, start=start, engine=engine, **ACCURACY)
 
 
 def test_a_broken_driver_cache_falls_back_to_python_and_is_removed(monkeypatch):
@@ -186,3 +185,23 @@ def test_a_broken_driver_cache_falls_back_to_python_and_is_removed(monkeypatch):
     assert forgotten == [model]
     with pytest.raises(DriverUnusable, match="UnpicklingError"):
         sweep([1300.0, 1400.0], [0.05], direction="up", engine="compiled")
+
+
+def test_a_walk_cut_into_one_point_blocks_matches_the_python_sweep(monkeypatch):
+    # The compiled walk runs a block of points per call (about BLOCK_SECONDS each) so that
+    # the progress bar moves and Ctrl-C is heard; each block continues every lane from its
+    # last good orbit. One point per block is the hardest case for that hand-over.
+    from numerics import _sweep_compiled
+
+    monkeypatch.setattr(_sweep_compiled, "BLOCK_SECONDS", 0.0)
+    done = []
+    freq = np.linspace(1300.0, 1500.0, 9)
+    blocks = _sweep_lanes(freq[None, :], np.array([0.2 * PAPER.Q_n]), ContactModel(), True,
+                          engine="compiled", **ACCURACY)
+    python = _sweep_lanes(freq[None, :], np.array([0.2 * PAPER.Q_n]), ContactModel(), True,
+                          engine="python", **ACCURACY)
+    assert_same_points(blocks, python)
+    monkeypatch.setattr(_sweep_compiled, "BLOCK_SECONDS", 1e9)  # one block: the whole walk
+    _sweep_compiled.sweep_lanes_compiled(freq[None, :], np.array([0.2 * PAPER.Q_n]),
+                                         ContactModel(), done=done.append, **ACCURACY)
+    assert done == [1, 8]  # the first block is one point, to measure the time per point

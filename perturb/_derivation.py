@@ -297,7 +297,9 @@ def _preamble(series: Series) -> list[str]:
         f"Derivation of the series of Eq. 2.6 to order {series.order}, step by step, "
         "in the paper's names",
         "Eq. 2.6: u'' + 2*c*u' + omega0**2*u + eps*h*u**2 = G*cos(Omega*t), Omega = 2*pi*f_e",
-        f"Eq. 2.7: u = u0 + eps*u1 + eps**2*u2 + ..., omega**2 = {sp.sstr(omega2)}",
+        # eps in the text, as in the lines above and below (sympy names it epsilon).
+        f"Eq. 2.7: u = u0 + eps*u1 + eps**2*u2 + ..., omega**2 = "
+        f"{sp.sstr(omega2.xreplace({sym.eps: sp.Symbol('eps', positive=True)}))}",
         "Names: the paper's A0-A19, phi0-phi9, b1-b4 (Eq. 2.8-2.10, A.1, A.2), the engine's "
         "beyond order 4 (A_n_k, F_n_k, psi_n_k, b_n, theta_k); amplitudes are signed, as the "
         "paper's.",

@@ -54,6 +54,10 @@ _NEWTON_ITERATIONS = 10
 _SPAN_FLOOR = 1e-3  # of y0: the smallest length scale of the settling test
 _REACH_CONTINUATION = 0.5  # how far (relative to App) Newton may move a sweep's guess
 _REACH_POLISH = 1e-2  # how far it may move a marched, settled state
+#: How far App may move when an orbit is refined (_sharpen), in units of its coarse
+#: step-error estimate: the estimate takes RK4 as second order, App(2N) - App(N) is
+#: at most about the error at N.
+_SHARPEN_SLACK = 2.0
 _VERIFY_PERIODS = 16  # march that confirms a continued orbit attracts the previous state
 _VERIFY_SHRINK = 0.5  # by how much the distance to that orbit must shrink meanwhile
 _EXTREMA_PER_PERIOD = 64  # room for local extrema per period of the response
@@ -371,9 +375,12 @@ def steady_states(
                               | (state.status == Status.UNDER_RESOLVED))
         if not redo.size:
             break
-        finer = _solve_by_steps(redo, np.minimum(steps * 2**level, MAX_STEPS), f_e, p_a, y, v,
-                                guess, span, **solve)
-        _merge(state, redo, finer)
+        finer_steps = np.minimum(steps * 2**level, MAX_STEPS)
+        if method == "newton":
+            redo = _sharpen(state, redo, finer_steps, f_e, p_a, solve)
+        if redo.size:
+            finer = _solve_by_steps(redo, finer_steps, f_e, p_a, y, v, guess, span, **solve)
+            _merge(state, redo, finer)
     settings = {"steps_per_period": steps_per_period, "tol": tol, "app_rtol": app_rtol,
                 "max_periods": max_periods, "method": method, "refinements": refinements}
     return SteadyStates(**state.columns(), model=model.as_dict(), settings=settings,
@@ -453,8 +460,10 @@ def _solve_by_steps(lanes, steps, f_e, p_a, y, v, guess, span, **solve) -> Orbit
 
 
 def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, cap, method,
-           continuation, keep_orbits) -> Orbits:
-    """One pass at a fixed step: Newton continuation, then marching and polishing.
+           continuation, keep_orbits, polish_only: bool = False) -> Orbits:
+    """One pass at a fixed step: Newton continuation, then marching and polishing
+    (``polish_only``: Newton from orbits found at fewer steps, within _REACH_POLISH, and
+    nothing else: ``_sharpen``).
 
     A sweep runs the compiled twin of this pass and of what it calls
     (``_sweep_template._solve``): a change here is made there too, and
@@ -470,12 +479,13 @@ def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, c
         for p in np.unique(guess):
             group = np.flatnonzero(guess == p)
             ok, yn, vn, mult = batch.newton(group, y[group], v[group], int(p), span[group],
-                                            _REACH_CONTINUATION)
-            ok[ok] = batch.follows(group[ok], y[group][ok], v[group][ok], yn[ok], vn[ok], int(p),
-                                   span[group][ok])
+                                            _REACH_POLISH if polish_only else _REACH_CONTINUATION)
+            if not polish_only:
+                ok[ok] = batch.follows(group[ok], y[group][ok], v[group][ok], yn[ok], vn[ok],
+                                       int(p), span[group][ok])
             _accept(state, group[ok], yn[ok], vn[ok], int(p), mult[ok], "newton")
     rest = np.flatnonzero(~state.settled)
-    if rest.size:
+    if rest.size and not polish_only:
         period, ym, vm, span_m = batch.march(rest, y[rest], v[rest], cap[rest], failed_period)
         state.y_start_m[rest], state.v_start_m_s[rest] = ym, vm
         for p in np.unique(period[period > 0]):
@@ -550,6 +560,35 @@ def _rank(status: np.ndarray) -> np.ndarray:
     return _RANK[status - int(Status.FAILED)]
 
 
+def _sharpen(state: Orbits, redo: np.ndarray, steps: np.ndarray, f_e, p_a, solve: dict
+             ) -> np.ndarray:
+    """Newton at the finer ``steps`` from the orbit of each lane of ``redo`` that settled
+    too coarsely; those it finds are merged into ``state``. The lanes left to solve
+    again from their initial states: the others of ``redo``, and where Newton fails.
+
+    The coarse orbit was found from the lane's initial state (continued and checked
+    to attract it, or marched to); the finer orbit is that orbit, moved by the step's
+    error, so it needs neither the approach check nor a march: Newton from it, within
+    _REACH_POLISH, is all it takes (tests/benchmarks/bench_sweep.py times the saving).
+    """
+    coarse = redo[(state.status[redo] == Status.UNDER_RESOLVED)
+                  & np.isfinite(state.error_estimate[redo])]
+    if not coarse.size:
+        return redo
+    sharp = _solve_by_steps(coarse, steps, f_e, p_a, state.y_start_m, state.v_start_m_s,
+                            state.period, state.app_m, **(solve | {"continuation": True}),
+                            polish_only=True)
+    # The same orbit, refined: App moves by about the coarse estimate, not more. (Without
+    # this, a 16-step down sweep at 0.3 Q left the bouncing branch for a small orbit whose
+    # start lay within _REACH_POLISH of it: tests/test_hard_cases.py.)
+    moved = np.abs(sharp.app_m - state.app_m[coarse])
+    found = ((sharp.settled | (sharp.status == Status.UNDER_RESOLVED))
+             & (moved <= _SHARPEN_SLACK * state.error_estimate[coarse] * state.app_m[coarse]))
+    _merge(state, coarse[found], sharp.take(np.flatnonzero(found)))
+    state.periods_run[coarse[~found]] += sharp.periods_run[~found]
+    return np.setdiff1d(redo, coarse[found])
+
+
 def _merge(state: Orbits, lanes: np.ndarray, finer: Orbits) -> None:
     """Take the finer pass's result for ``lanes`` where it is at least as good."""
     take = _rank(finer.status) <= _rank(state.status[lanes])
@@ -584,6 +623,9 @@ def _record_orbits(batch: _Batch, state: Orbits, keep_orbits: bool) -> None:
         least = _least_period(batch, group, state, rec.history_y[:, steps - 1 :: steps],
                               rec.history_v[:, steps - 1 :: steps], rec.ymax - rec.ymin)
         state.period[group] = least
+        shorter = least < p
+        if shorter.any():
+            _least_period_multipliers(batch, state, group[shorter], least[shorter])
         for j, lane in enumerate(group):
             n = rec.count[j]
             within = rec.phase[j, :n] < least[j]
@@ -596,6 +638,29 @@ def _record_orbits(batch: _Batch, state: Orbits, keep_orbits: bool) -> None:
                                      state.y_start_m[lane])
             if keep_orbits:
                 state.orbit_y_m[lane] = ends.copy()
+
+
+def _least_period_multipliers(batch: _Batch, state: Orbits, lanes: np.ndarray,
+                              least: np.ndarray) -> None:
+    """The Floquet multipliers of the least period, where Newton ran on a multiple of it.
+
+    A march finds an orbit of period p as repeating after some multiple k p, and the
+    polish's Newton gives the multipliers of that k p-fold map, mu^k: at 0.5 Q,
+    1050 Hz with 32 steps, |mu|^4 = 0.70 where the orbit's |mu| is 0.916 (a finite
+    difference of the period map agrees), and the step-error estimate, amplified by
+    1 / (1 - |mu|), came out 3.5 times too small. One shoot over the least period
+    from the orbit's start gives them; lanes without multipliers (march alone) keep none.
+    """
+    known = np.isfinite(state.multipliers[lanes]).all(axis=1)
+    lanes, least = lanes[known], least[known]
+    for q in np.unique(least):
+        group = lanes[least == q]
+        y, v = state.y_start_m[group].copy(), state.v_start_m_s[group].copy()
+        monodromy = np.empty((group.size, 2, 2))
+        batch.kernels.shoot_periods(y, v, batch.dt[group], batch.p_a[group], batch.drive,
+                                    int(q), monodromy)
+        batch.periods_run[group] += q
+        state.multipliers[group] = _eigenvalues(monodromy)
 
 
 def _estimate_step_error(batch: _Batch, state: Orbits) -> None:

@@ -42,6 +42,7 @@ _NEWTON_ITERATIONS = _st._NEWTON_ITERATIONS
 _SPAN_FLOOR = _st._SPAN_FLOOR
 _REACH_CONTINUATION = _st._REACH_CONTINUATION
 _REACH_POLISH = _st._REACH_POLISH
+_SHARPEN_SLACK = _st._SHARPEN_SLACK
 _VERIFY_PERIODS = _st._VERIFY_PERIODS
 _VERIFY_SHRINK = _st._VERIFY_SHRINK
 _CHUNK = _st._CHUNK
@@ -112,6 +113,23 @@ def _multipliers(m00, m01, m10, m11):
         return complex(half_trace + root, 0.0), complex(half_trace - root, 0.0)
     root = math.sqrt(-disc)
     return complex(half_trace, root), complex(half_trace, -root)
+
+
+@_inline
+def _known(mu0, mu1):
+    """np.isfinite(multipliers).all() of one lane."""
+    return (math.isfinite(mu0.real) and math.isfinite(mu0.imag) and math.isfinite(mu1.real)
+            and math.isfinite(mu1.imag))
+
+
+@_inline
+def _shoot_multipliers(y, v, dt, p_a, drive, periods):
+    """The multipliers of the ``periods``-fold map at the orbit start (y, v), one lane."""
+    monodromy = np.empty((1, 2, 2))
+    shoot_periods(np.array([y]), np.array([v]), np.array([dt]), np.array([p_a]),  # noqa: F821
+                  drive, periods, monodromy)
+    return _multipliers(monodromy[0, 0, 0], monodromy[0, 0, 1], monodromy[0, 1, 0],
+                        monodromy[0, 1, 1])
 
 
 @_inline
@@ -264,8 +282,8 @@ def _least_period(strobe_y, strobe_v, y_start, v_start, p, span, omega, tol, len
 
 
 @_jit
-def _record_orbits(lanes, steps, fl, it, maxima, minima, dt, p_a, omega, limit, drive, tol,
-                   length, periods_run):
+def _record_orbits(lanes, steps, fl, it, mult, maxima, minima, dt, p_a, omega, limit, drive,
+                   tol, length, periods_run):
     """_steady._record_orbits: one period of the response from each orbit's start."""
     for p in range(1, _LARGEST_PERIOD + 1):
         group = lanes[it[lanes, I_PERIOD] == p]
@@ -290,6 +308,10 @@ def _record_orbits(lanes, steps, fl, it, maxima, minima, dt, p_a, omega, limit, 
             least = _least_period(strobe_y, strobe_v, fl[lane, F_Y], fl[lane, F_V], p,
                                   ymax[i] - ymin[i], omega[lane], tol, length)
             it[lane, I_PERIOD] = least
+            if least < p and _known(mult[lane, 0], mult[lane, 1]):  # _least_period_multipliers
+                mult[lane, 0], mult[lane, 1] = _shoot_multipliers(
+                    fl[lane, F_Y], fl[lane, F_V], dt[lane], p_a[lane], drive, least)
+                periods_run[lane] += least
             within = phase[i, :count[i]] < least
             values, kinds = value[i, :count[i]][within], kind[i, :count[i]][within]
             maxima[lane] = values[kinds > 0]
@@ -363,8 +385,9 @@ def _estimate_step_error(lanes, steps, fl, it, mult, f_e, p_a, limit, tables, ta
 @_jit
 def _solve(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, continuation, use_newton,
            tol, app_rtol, length, tables, table_steps, table_offset, fl, it, mult, maxima,
-           minima):
-    """_steady._solve: one pass at one step count over ``lanes``; writes their rows."""
+           minima, polish_only):
+    """_steady._solve: one pass at one step count over ``lanes``; writes their rows
+    (``polish_only``: Newton alone, within _REACH_POLISH, as _steady._sharpen asks)."""
     lane_count = f_e.shape[0]
     drive = _drive(tables, table_steps, table_offset, steps)
     dt = 1.0 / (steps * f_e)
@@ -385,18 +408,19 @@ def _solve(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, continuation, 
             group = lanes[guess[lanes] == p]
             if not group.size:
                 continue
-            ok, yn, vn, mu = _newton(group, y[group], v[group], p, span[group],
-                                     _REACH_CONTINUATION, dt, p_a, omega, drive, tol, length,
-                                     periods_run)
-            chosen = np.flatnonzero(ok)
-            lanes_ok = group[chosen]
-            follows = _follows(lanes_ok, y[lanes_ok], v[lanes_ok], yn[chosen], vn[chosen], p,
-                               span[lanes_ok], dt, p_a, omega, limit, drive, tol, length,
-                               periods_run)
-            ok[chosen[~follows]] = False
+            reach = _REACH_POLISH if polish_only else _REACH_CONTINUATION
+            ok, yn, vn, mu = _newton(group, y[group], v[group], p, span[group], reach, dt,
+                                     p_a, omega, drive, tol, length, periods_run)
+            if not polish_only:
+                chosen = np.flatnonzero(ok)
+                lanes_ok = group[chosen]
+                follows = _follows(lanes_ok, y[lanes_ok], v[lanes_ok], yn[chosen],
+                                   vn[chosen], p, span[lanes_ok], dt, p_a, omega, limit,
+                                   drive, tol, length, periods_run)
+                ok[chosen[~follows]] = False
             _accept(fl, it, mult, group[ok], yn[ok], vn[ok], p, mu[ok], _M_NEWTON)
     rest = lanes[it[lanes, I_STATUS] != _SUCCESS]
-    if rest.size:
+    if rest.size and not polish_only:
         period, ym, vm, span_m = _march(rest, y[rest], v[rest], it[rest, I_CAP], failed_at, dt,
                                         p_a, omega, limit, drive, tol, length, periods_run)
         for i in range(rest.size):
@@ -414,8 +438,8 @@ def _solve(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, continuation, 
                 _accept(fl, it, mult, group[ok], yn[ok], vn[ok], p, mu[ok], _M_MARCH_NEWTON)
                 group, marched_y, marched_v = group[~ok], marched_y[~ok], marched_v[~ok]
             _accept(fl, it, mult, group, marched_y, marched_v, p, no_multipliers, _M_MARCH)
-    _record_orbits(lanes, steps, fl, it, maxima, minima, dt, p_a, omega, limit, drive, tol,
-                   length, periods_run)
+    _record_orbits(lanes, steps, fl, it, mult, maxima, minima, dt, p_a, omega, limit, drive,
+                   tol, length, periods_run)
     if app_rtol > 0:
         _estimate_step_error(lanes, steps, fl, it, mult, f_e, p_a, limit, tables, table_steps,
                              table_offset, dt, length, periods_run)
@@ -431,7 +455,7 @@ def _solve(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, continuation, 
 @_inline
 def _solve_by_steps(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
                     use_newton, tol, app_rtol, length, tables, table_steps, table_offset, fl, it,
-                    mult, maxima, minima):
+                    mult, maxima, minima, polish_only):
     """_steady._solve_by_steps: a pass per step count, in increasing order."""
     pending = steps[lanes]
     while pending.size:
@@ -439,7 +463,7 @@ def _solve_by_steps(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, conti
         pending = pending[pending != count]
         _solve(lanes[steps[lanes] == count], count, f_e, p_a, y, v, guess, span, cap, limit,
                continuation, use_newton, tol, app_rtol, length, tables, table_steps,
-               table_offset, fl, it, mult, maxima, minima)
+               table_offset, fl, it, mult, maxima, minima, polish_only)
 
 
 @_inline
@@ -470,21 +494,55 @@ def _steady_states(steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
             if not redo.size:
                 break
         fine = level > 0
-        _solve_by_steps(redo, np.minimum(steps * 2**level, max_steps), f_e, p_a, y, v, guess,
-                        span, cap, limit, continuation, use_newton, tol, app_rtol, length,
-                        tables, table_steps, table_offset, fine_fl if fine else fl,
-                        fine_it if fine else it, fine_mult if fine else mult,
-                        fine_maxima if fine else maxima, fine_minima if fine else minima)
-        if not fine:
+        level_steps = np.minimum(steps * 2**level, max_steps)
+        if fine and use_newton:  # _steady._sharpen
+            coarse = redo[(it[redo, I_STATUS] == _UNDER_RESOLVED)
+                          & np.isfinite(fl[redo, F_ERROR])]
+            if coarse.size:
+                _solve_by_steps(coarse, level_steps, f_e, p_a, fl[:, F_Y].copy(),
+                                fl[:, F_V].copy(), it[:, I_PERIOD].copy(),
+                                fl[:, F_YMAX] - fl[:, F_YMIN], cap, limit, True, use_newton,
+                                tol, app_rtol, length, tables, table_steps, table_offset,
+                                fine_fl, fine_it, fine_mult, fine_maxima, fine_minima, True)
+                app = fl[coarse, F_YMAX] - fl[coarse, F_YMIN]
+                moved = np.abs((fine_fl[coarse, F_YMAX] - fine_fl[coarse, F_YMIN]) - app)
+                found = (((fine_it[coarse, I_STATUS] == _SUCCESS)
+                          | (fine_it[coarse, I_STATUS] == _UNDER_RESOLVED))
+                         & (moved <= _SHARPEN_SLACK * fl[coarse, F_ERROR] * app))
+                _merge(coarse[found], fl, it, mult, maxima, minima, fine_fl, fine_it,
+                       fine_mult, fine_maxima, fine_minima)
+                for lane in coarse[~found]:
+                    it[lane, I_RUN] += fine_it[lane, I_RUN]
+                keep = np.ones(redo.size, dtype=np.bool_)
+                for k in range(redo.size):
+                    for lane in coarse[found]:
+                        if redo[k] == lane:
+                            keep[k] = False
+                redo = redo[keep]
+        if fine and not redo.size:
             continue
-        for lane in redo:  # _steady._merge: the finer result where at least as good
-            cost = it[lane, I_RUN] + fine_it[lane, I_RUN]
-            if (_RANK[fine_it[lane, I_STATUS] + _STATUS_OFFSET]
-                    <= _RANK[it[lane, I_STATUS] + _STATUS_OFFSET]):
-                fl[lane], it[lane], mult[lane] = fine_fl[lane], fine_it[lane], fine_mult[lane]
-                maxima[lane], minima[lane] = fine_maxima[lane], fine_minima[lane]
-            it[lane, I_RUN] = cost
+        _solve_by_steps(redo, level_steps, f_e, p_a, y, v, guess, span, cap, limit,
+                        continuation, use_newton, tol, app_rtol, length, tables, table_steps,
+                        table_offset, fine_fl if fine else fl, fine_it if fine else it,
+                        fine_mult if fine else mult, fine_maxima if fine else maxima,
+                        fine_minima if fine else minima, False)
+        if fine:
+            _merge(redo, fl, it, mult, maxima, minima, fine_fl, fine_it, fine_mult,
+                   fine_maxima, fine_minima)
     return fl, it, mult, maxima, minima
+
+
+@_inline
+def _merge(lanes, fl, it, mult, maxima, minima, fine_fl, fine_it, fine_mult, fine_maxima,
+           fine_minima):
+    """_steady._merge: the finer result of ``lanes`` where it is at least as good."""
+    for lane in lanes:
+        cost = it[lane, I_RUN] + fine_it[lane, I_RUN]
+        if (_RANK[fine_it[lane, I_STATUS] + _STATUS_OFFSET]
+                <= _RANK[it[lane, I_STATUS] + _STATUS_OFFSET]):
+            fl[lane], it[lane], mult[lane] = fine_fl[lane], fine_it[lane], fine_mult[lane]
+            maxima[lane], minima[lane] = fine_maxima[lane], fine_minima[lane]
+        it[lane, I_RUN] = cost
 
 
 @_jit

@@ -83,7 +83,9 @@ def test_too_few_steps_are_flagged_never_settled_and_wrong():
     coarse = steady_states(f, 0.5 * PAPER.Q_n, steps_per_period=8)
     fine = _same_orbit_finely(coarse, f, 0.5 * PAPER.Q_n)
     settled = coarse.settled & fine.settled
-    assert settled.sum() >= 16 and (coarse.status == Status.UNDER_RESOLVED).any()
+    # 14 of 32 settle (measured; 16 while a march's multiple of the period understated
+    # the multipliers, and with them the estimate: tests/test_steady.py).
+    assert settled.sum() >= 14 and (coarse.status == Status.UNDER_RESOLVED).any()
     error = np.abs(coarse.app_m[settled] / fine.app_m[settled] - 1)
     assert error.max() <= coarse.settings["app_rtol"], error.max()  # measured: 2.0e-3
     for i in np.flatnonzero(coarse.status == Status.UNDER_RESOLVED):

@@ -80,7 +80,8 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
                   ""),
     "elapsed_s": ("wall time of the computation", "s", ""),
     "settings": ("the settings a result was computed with", "", ""),
-    "kind": ("JSON only: the class of the result, for `load`", "", ""),
+    "kind": ("JSON only: the class of the result, for `load`; of a bifurcation: fold or "
+             "period-doubling", "", ""),
     # -- sweeps and the census
     "direction": ("sweep direction: up or down", "", "Section 2, end"),
     "runs": ("the runs of a sweep, one per (pa_frac, direction)", "", ""),
@@ -135,8 +136,9 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     # -- the perturbation series and its frequency response (perturb)
     "order": ("order N of the perturbation series (highest power of eps, or of alpha for "
               "the backbone series)", "1", "Eq. 2.7"),
-    "branches": ("the roots of the frequency equation, branch j holding the (j+1)-th largest "
-                 "omega at each frequency", "", "Eq. 2.7, Fig. 2"),
+    "branches": ("the branches of a result: of a Response, the roots of the frequency "
+                 "equation, branch j holding the (j+1)-th largest omega at each frequency; of "
+                 "a Continuation, the continued orbits", "", "Eq. 2.7, Fig. 2"),
     "a0_m": ("amplitude A0 = G H_1(omega) of u0, the order-0 fundamental", "m", "Eq. 2.8"),
     "omega_rad_s": ("non-linear natural frequency omega, a root of the frequency equation",
                     "rad/s", "Eq. 2.7"),
@@ -259,6 +261,18 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "quick": ("coarser grids (the tests)", "", ""),
     "real": ("JSON of a complex array: its real part", "", ""),
     "imag": ("JSON of a complex array: its imaginary part", "", ""),
+    # -- continuation (issue 13)
+    "bifurcations": ("folds and period doublings met along continued branches: kind, "
+                     "frequency_hz, app_m, pa_frac", "", ""),
+    "stable": ("per point of a continued branch: both Floquet multipliers inside the unit "
+               "circle", "", ""),
+    "fmin_hz": ("lower end of the band of f_e a branch is continued in", "Hz", ""),
+    "fmax_hz": ("upper end of the band of f_e a branch is continued in", "Hz", ""),
+    "ds_max": ("largest continuation step, in the scaled unknowns (y/y0, v/(omega0 y0), "
+               "f/f_n0)", "1", ""),
+    "max_angle": ("largest angle between the tangents of consecutive continued points",
+                  "rad", ""),
+    "max_points": ("most points a continued branch may take", "1", ""),
 }
 
 

@@ -17,6 +17,7 @@ from common import GLOSSARY, RESULT_CLASSES, Result, glossary_table, load
 from numerics import (
     attractors,
     compare,
+    continue_orbits,
     exact_backbone,
     hysteresis_loop,
     natural_frequency_vs_height,
@@ -37,6 +38,7 @@ FACTORIES = {
     "HysteresisLoop": lambda: hysteresis_loop(1600.0, 0.4, periods=20, steps_per_period=64),
     "HeightSweep": lambda: natural_frequency_vs_height(),
     "Comparison": lambda: compare((2,), 0.05, frequency_hz=np.array([700.0, 1400.0])),
+    "Continuation": lambda: continue_orbits(0.05, 1350.0, 1450.0),
     "Response": lambda: frequency_response([800.0, 1420.0], 0.05, order=2),
     "BackboneSeries": lambda: backbone_series(4),
     "SceneRun": lambda: run_scene(parse_scene(

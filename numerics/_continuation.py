@@ -1,0 +1,513 @@
+"""Pseudo-arclength continuation of periodic orbits in f_e, with their stability.
+
+Sweeps see only stable states and jump where a branch folds. Here a periodic
+orbit is followed continuously, stable or not (issue 13, items 1, 2): a point
+of the branch is a zero of R(x, f) = Phi_p(x, f) - x, Phi_p being p periods
+of the simulator's RK4 map at N fixed steps per period (``_continuation_map``).
+
+- Predictor: a step ds along the unit tangent t of the branch in the scaled
+  unknowns z = (y / y0, v / (omega0 y0), f / f_n0).
+- Corrector: Newton on the bordered system [R(z) = 0, t . (z - z_k) = ds].
+- Step control: ds grows by 1.5 after an easy step (at most 3 iterations), shrinks
+  by 2 on a slow or failed Newton and whenever consecutive tangents differ by more
+  than ``max_angle``, so that no fold is stepped across unseen.
+- Stability: the Floquet multipliers, eigenvalues of the monodromy matrix; an orbit
+  is stable when both lie inside the unit circle. As det M < 1 (the contact's
+  damping), a multiplier leaves the circle only through +1 (a fold) or -1 (period
+  doubling): no Neimark-Sacker point can arise in this model.
+- Bifurcations: a fold where the f-component of t changes sign, a period doubling
+  where det(M + I) does; each is located by Brent's method on the arclength,
+  to ``LOCATE_TOL`` in z, and inserted in the branch.
+- App of every point: one batched run of one orbit period of all points
+  (``record_periods``, one lane per point, Hermite-refined extrema).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from scipy.optimize import brentq
+from scipy.signal import find_peaks
+
+from common import Result, Status, check_int, check_positive, progress, result
+from perturb import ContactModel, eq26_numbers
+
+from ._continuation_map import PeriodMap, Point
+from ._lanes import Lanes
+from ._simulate import check_model
+from ._steady import PERIODS_TRIED, lane_steps, steady_states
+
+__all__ = ["Bifurcation", "Continuation", "ContinuedBranch", "continue_orbits", "DEFAULTS"]
+
+DEFAULTS = {"steps_per_period": "auto", "ds_max": 0.02, "max_angle": 0.1, "max_points": 20_000}
+#: The least N of "auto": the map's corners (a step's stage crossing y = 0) grow with the
+#: step; at 0.15 Q, N = 128 shows zigzags of f by 0.27 Hz on the bouncing middle branch
+#: (taken for folds) and stops at 398 Hz, N = 512 none and reaches 355 Hz.
+_AUTO_MIN_STEPS = 512
+_DS_START = 1e-3  # the first step, in z
+_DS_MIN = 1e-9  # below it the continuation gives up
+_GROW, _SHRINK = 1.5, 0.5
+#: A tangent that turns by more than max_angle over a step this short (in z) turns at a
+#: corner of the branch, not at a fold (the map is only piecewise smooth through loss
+#: of contact): the step is accepted.
+_CORNER_DS = 1e-4
+_EASY_ITERATIONS = 3  # Newton converging within this many iterations grows the step
+#: Brent's method locates a bifurcation to this arclength in z: f to about 1e-5 Hz on
+#: the paper's model (f_n0 = 1485 Hz), App to 1e-9 y0.
+LOCATE_TOL = 1e-8
+KINDS = ("fold", "period-doubling")
+
+
+@result
+class ContinuedBranch(Result):
+    """One continued branch of p-periodic orbits, point by point along its arclength.
+
+    Attributes
+    ----------
+    frequency_hz : ndarray
+        f_e of each point [Hz] (not monotonic: it turns back at each fold).
+    app_m : ndarray
+        App = max y - min y over one orbit period (p excitation periods) [m].
+    stable : ndarray of bool
+        Both Floquet multipliers inside the unit circle.
+    period : int
+        p, the orbit's period in excitation periods.
+    multipliers : ndarray, shape (points, 2), complex
+        The Floquet multipliers of each point.
+    y_start_m, v_start_m_s : ndarray
+        The orbit's state at phase 0 [m, m/s].
+    status : int
+        ``common.Status``: success when the branch reached the band's end.
+    message : str
+        Why the branch ended early ("" when it reached the end).
+    """
+
+    frequency_hz: np.ndarray
+    app_m: np.ndarray
+    stable: np.ndarray
+    period: int
+    multipliers: np.ndarray
+    y_start_m: np.ndarray
+    v_start_m_s: np.ndarray
+    status: int = int(Status.SUCCESS)
+    message: str = ""
+
+    @classmethod
+    def from_dict(cls, data: dict) -> ContinuedBranch:
+        branch = super().from_dict(data)
+        branch.stable = np.asarray(branch.stable, dtype=bool)
+        return branch
+
+    def summary(self) -> str:
+        return (f"ContinuedBranch: period {self.period}, {self.frequency_hz.size} points "
+                f"({int(self.stable.sum())} stable), {Status(self.status).name.lower()}"
+                + (f": {self.message}" if self.message else ""))
+
+
+@result
+class Bifurcation(Result):
+    """A fold (a multiplier through +1) or a period doubling (through -1) on a branch.
+
+    ``kind`` is "fold" or "period-doubling" (in JSON it takes the place of the class
+    name: a bifurcation is read back through its parent).
+    """
+
+    kind: str
+    frequency_hz: float
+    app_m: float
+    pa_frac: float
+
+    def summary(self) -> str:
+        return (f"Bifurcation: {self.kind} at {self.frequency_hz:.6g} Hz, App "
+                f"{self.app_m * 1e9:.4g} nm, P_a = {self.pa_frac:g} Q")
+
+
+@result
+class Continuation(Result):
+    """Branches of periodic orbits continued in f_e at one P_a, and their bifurcations.
+
+    Attributes
+    ----------
+    pa_frac : float
+        P_a / Q.
+    branches : list of ContinuedBranch
+    bifurcations : list of Bifurcation
+        In the order met along the branches.
+    model, settings : dict
+        The model (``ContactModel.as_dict()``); fmin_hz, fmax_hz, steps_per_period
+        (the N used), ds_max, max_angle, max_points.
+    elapsed_s : float
+    """
+
+    pa_frac: float
+    branches: list[ContinuedBranch]
+    bifurcations: list[Bifurcation]
+    model: dict
+    settings: dict
+    elapsed_s: float = 0.0
+
+    def folds(self) -> list[Bifurcation]:
+        return [b for b in self.bifurcations if b.kind == "fold"]
+
+    def summary(self) -> str:
+        counts = {k: sum(b.kind == k for b in self.bifurcations) for k in KINDS}
+        return (f"Continuation: P_a = {self.pa_frac:g} Q, {len(self.branches)} branch(es), "
+                f"{sum(b.frequency_hz.size for b in self.branches)} points, "
+                f"{counts['fold']} folds, {counts['period-doubling']} period doublings, "
+                f"{self.elapsed_s:.3g} s")
+
+    def table(self) -> str:
+        lines = [f"  {b.summary()}" for b in self.branches]
+        lines += [f"  {b.kind:<16} {b.frequency_hz:>12.6f} Hz  App {b.app_m * 1e9:>9.4f} nm"
+                  for b in self.bifurcations]
+        return "\n".join(lines)
+
+
+def continue_orbits(
+    pa_frac: float,
+    fmin_hz: float,
+    fmax_hz: float,
+    *,
+    model: ContactModel | None = None,
+    period: int = 1,
+    steps_per_period: int | str = DEFAULTS["steps_per_period"],
+    ds_max: float = DEFAULTS["ds_max"],
+    max_angle: float = DEFAULTS["max_angle"],
+    max_points: int = DEFAULTS["max_points"],
+    quiet: bool = True,
+) -> Continuation:
+    """Continue the p-periodic orbit reached at ``fmin_hz`` from rest up to ``fmax_hz``.
+
+    Parameters
+    ----------
+    pa_frac : float
+        Force amplitude P_a / Q (> 0).
+    fmin_hz, fmax_hz : float
+        The band of f_e [Hz]; the branch starts at the stable orbit that time
+        marching from rest reaches at ``fmin_hz`` (``steady_states``) and ends where
+        it reaches ``fmax_hz``. If it ends inside the band (Newton cannot pass a
+        corner of the piecewise smooth map) a second walk starts from the orbit
+        reached at ``fmax_hz``, down in f; where the two walks end at the same point
+        they are one branch, otherwise two.
+    model : ContactModel, optional
+        The paper's full model by default.
+    period : int
+        p of the orbit (1 to 8); the orbit reached at ``fmin_hz`` must have it.
+    steps_per_period : int or "auto"
+        N, fixed along the branch (so that the period map is smooth in f_e); "auto"
+        takes ``steady_states``' choice at ``fmin_hz`` (the finest of the band), but at
+        least 512.
+    ds_max : float
+        Largest step along the branch, in the scaled unknowns z.
+    max_angle : float
+        Largest angle [rad] between the tangents of consecutive points.
+    max_points : int
+        The branch gives up after this many points.
+    quiet : bool
+        No progress bar on stderr.
+
+    Returns
+    -------
+    Continuation
+
+    Examples
+    --------
+    >>> run = continue_orbits(0.05, 1300.0, 1600.0)
+    >>> [(b.kind, round(b.frequency_hz)) for b in run.bifurcations]
+    [('fold', 1420), ('fold', 1373)]
+    """
+    model = check_model(model)
+    pa_frac = check_positive("pa_frac", pa_frac)
+    fmin_hz, fmax_hz = check_positive("fmin_hz", fmin_hz), check_positive("fmax_hz", fmax_hz)
+    if not fmin_hz < fmax_hz:
+        raise ValueError(f"`fmax_hz` must be above `fmin_hz`, got {fmin_hz!r} and {fmax_hz!r}.")
+    if period not in PERIODS_TRIED:
+        raise ValueError(f"`period` must be one of {PERIODS_TRIED}, got {period!r}.")
+    ds_max = check_positive("ds_max", ds_max)
+    max_angle = check_positive("max_angle", max_angle)
+    max_points = check_int("max_points", max_points, minimum=2)
+    numbers = eq26_numbers(model.parameters)
+    if steps_per_period == "auto":
+        steps = max(int(lane_steps("auto", np.array([fmin_hz]), numbers.fastest_rate_per_s)[0]),
+                    _AUTO_MIN_STEPS)
+    else:
+        steps = check_int("steps_per_period", steps_per_period, minimum=4)
+    start = time.perf_counter()
+    p_a = pa_frac * model.parameters.Q_n
+    shoot = PeriodMap(model, p_a, steps, period)
+    bar = _Coverage(fmin_hz, fmax_hz, quiet)
+    walks = [_walk_from(shoot, model, fmin_hz, fmax_hz, +1, bar, ds_max, max_angle, max_points)]
+    if walks[0].status != Status.SUCCESS:
+        # The branch ended inside the band (at a corner of the map that Newton cannot
+        # pass, or at an isola's edge): walk it from the band's other end, down in f.
+        walks.append(_walk_from(shoot, model, fmin_hz, fmax_hz, -1, bar, ds_max, max_angle,
+                                max_points))
+    bar.close()
+    branches, bifurcations = _results(shoot, model, _join(walks), pa_frac)
+    settings = {"fmin_hz": fmin_hz, "fmax_hz": fmax_hz, "steps_per_period": steps,
+                "ds_max": ds_max, "max_angle": max_angle, "max_points": max_points}
+    return Continuation(pa_frac=pa_frac, branches=branches, bifurcations=bifurcations,
+                        model=model.as_dict(), settings=settings,
+                        elapsed_s=time.perf_counter() - start)
+
+
+def _walk_from(shoot, model, fmin_hz, fmax_hz, direction, bar, ds_max, max_angle,
+               max_points) -> _Walk:
+    """The branch through the stable orbit reached from rest at the band's lower end
+    (``direction`` +1, walked up in f) or upper end (-1, walked down)."""
+    f_start = fmin_hz if direction > 0 else fmax_hz
+    walk = _Walk(shoot, fmin_hz, fmax_hz, direction, ds_max, max_angle, max_points, bar)
+    first = _first_point(shoot, model, f_start, shoot.p_a[0], shoot.steps)
+    if first is None:
+        walk.end(Status.FAILED, f"no stable {shoot.period}-periodic orbit reached from rest "
+                 f"at {f_start:g} Hz to start from")
+    else:
+        walk.run(first)
+    return walk
+
+
+class _Coverage:
+    """The progress bar: the share of the band that the walks have covered."""
+
+    def __init__(self, fmin_hz, fmax_hz, quiet):
+        self.lo, self.hi = fmin_hz, fmax_hz
+        self.reached = [fmin_hz, fmax_hz]  # by the walk up, by the walk down
+        self.bar = progress(1000, "continue", quiet=quiet)
+
+    def update(self, f_hz: float, direction: int) -> None:
+        if direction > 0:
+            self.reached[0] = max(self.reached[0], f_hz)
+        else:
+            self.reached[1] = min(self.reached[1], f_hz)
+        covered = (self.reached[0] - self.lo) + (self.hi - self.reached[1])
+        share = min(covered / (self.hi - self.lo), 1.0)
+        self.bar.update(max(0, int(1000 * share) - self.bar.n))
+
+    def close(self) -> None:
+        self.bar.close()
+
+
+def _first_point(shoot: PeriodMap, model, f_hz, p_a, steps) -> Point | None:
+    """The stable orbit reached from rest at ``f_hz`` (time marching, then Newton at our N),
+    polished at fixed f; None if none of period p is reached."""
+    state = steady_states(f_hz, p_a, model=model, steps_per_period=steps, app_rtol=None,
+                          refinements=0)
+    if not (state.settled[0] and state.period[0] == shoot.period):
+        return None
+    z = shoot.scaled(state.y_start_m[0], state.v_start_m_s[0], f_hz)
+    return shoot.correct(z, np.array([0.0, 0.0, 1.0]), z[2])
+
+
+class _Walk:
+    """The points of a branch and the bifurcations met, walked step by step."""
+
+    def __init__(self, shoot, fmin_hz, fmax_hz, direction, ds_max, max_angle, max_points, bar):
+        self.shoot, self.direction, self.bar = shoot, direction, bar
+        self.f_lo, self.f_hi = fmin_hz / shoot.scale[2], fmax_hz / shoot.scale[2]
+        self.ds_max, self.max_angle, self.max_points = ds_max, max_angle, max_points
+        self.points: list[Point] = []
+        self.tangents: list[np.ndarray] = []
+        self.marks: list[tuple[int, str]] = []  # (index in points, kind)
+        self.status, self.message = Status.SUCCESS, ""
+        self.orientation = 1.0  # the sign of det([J; t]) along the branch
+        self.resume: float | None = None  # the step to resume with after a corner
+
+    def end(self, status: Status, message: str) -> None:
+        self.status, self.message = status, message
+
+    def run(self, first: Point) -> None:
+        """From ``first``, into the band (up or down in f), until f leaves the band."""
+        # Into the band at the start; the branch keeps that orientation.
+        inward = np.array([0.0, 0.0, float(self.direction)])
+        self.orientation = first.orientation(inward) or 1.0
+        t = first.tangent(inward, self.orientation)
+        self._keep(first, t)
+        ds = _DS_START
+        while True:
+            if len(self.points) >= self.max_points:
+                self.end(Status.FAILED, f"gave up after {self.max_points} points (max_points)")
+                break
+            step = self._step(ds)
+            if step is None:
+                f = self.shoot.physical(self.points[-1].z)[2]
+                self.end(Status.FAILED, f"step below {_DS_MIN:g} at f_e = {f:.6g} Hz: Newton "
+                         "does not converge there")
+                break
+            point, t, ds = step
+            self._bifurcations(point, t)
+            if point.z[2] >= self.f_hi or point.z[2] <= self.f_lo:
+                self._clip(point, t)
+                break
+            self._keep(point, t)
+            self.bar.update(point.z[2] * self.shoot.scale[2], self.direction)
+
+    def _keep(self, point: Point, t: np.ndarray) -> None:
+        self.points.append(point)
+        self.tangents.append(t)
+
+    def _step(self, ds: float):
+        """One accepted step from the last point: (point, tangent, next ds), or None."""
+        z, t = self.points[-1].z, self.tangents[-1]
+        while ds >= _DS_MIN:
+            point = self.shoot.correct(z + ds * t, t, t @ z + ds)
+            if point is not None:
+                t_new = point.tangent(t, self.orientation)
+                angle = np.arccos(np.clip(t_new @ t, -1.0, 1.0))
+                if angle <= self.max_angle:
+                    self.resume = None
+                    # An easy step grows the next; so does a step shorter than a corner
+                    # (Newton may stay slow near one however short the step).
+                    grow = point.iterations <= _EASY_ITERATIONS or ds < _CORNER_DS
+                    return point, t_new, min(ds * _GROW, self.ds_max) if grow else ds
+                if ds < _CORNER_DS:
+                    # The tangent turns as much over a step this short: a corner of the
+                    # piecewise smooth map (a stage of a step crossing y = 0, Eq. 2.1),
+                    # not a fold; walk on with the step taken before the corner.
+                    resume, self.resume = self.resume or ds, None
+                    return point, t_new, resume
+                if self.resume is None:  # the step to come back to after a corner
+                    self.resume = ds
+            ds *= _SHRINK
+        return None
+
+    def _bifurcations(self, point: Point, t: np.ndarray) -> None:
+        """Locate the folds and period doublings between the last point and ``point``
+        and keep them as points of the branch."""
+        base, t_base = self.points[-1], self.tangents[-1]
+        tests = {"fold": lambda p, tp: tp[2],
+                 "period-doubling": lambda p, tp: p.period_doubling_test}
+        found = []
+        # A fold passes a real multiplier through +1: where t_f turns with no change in
+        # the count of multipliers outside the unit circle, it turned at a corner of the
+        # piecewise smooth map (an artefact of the fixed step), not at a fold.
+        turns = {"fold": _unstable_count(base) != _unstable_count(point),
+                 "period-doubling": True}
+        for kind, test in tests.items():
+            if turns[kind] and test(base, t_base) * test(point, t) < 0:
+                located = self._locate(base, t_base, point, test)
+                if located is not None:
+                    found.append((located[0], kind, located[1], located[2]))
+        for _, kind, p, tp in sorted(found, key=lambda item: item[0]):
+            self.marks.append((len(self.points), kind))
+            self._keep(p, tp)
+
+    def _locate(self, base: Point, t_base, end: Point, test):
+        """Brent's method on the arclength s from ``base`` towards ``end``: the s where
+        ``test`` (of a corrected point and its tangent) is zero, with that point."""
+        ds = t_base @ (end.z - base.z)
+
+        def corrected(s):
+            p = self.shoot.correct(base.z + s * t_base, t_base, t_base @ base.z + s)
+            if p is None:
+                raise _NotLocated
+            return p, p.tangent(t_base, self.orientation)
+
+        def g(s):
+            if s == ds:
+                return test(end, end.tangent(t_base, self.orientation))
+            return test(*corrected(s)) if s else test(base, t_base)
+
+        try:
+            s = brentq(g, 0.0, ds, xtol=LOCATE_TOL)
+            point, t = corrected(s)
+        except _NotLocated:
+            return None
+        return s, point, t
+
+    def _clip(self, point: Point, t: np.ndarray) -> None:
+        """The branch's last point exactly at the band's edge that ``point`` crossed."""
+        last = self.points[-1]
+        edge = self.f_hi if point.z[2] >= self.f_hi else self.f_lo
+        share = (edge - last.z[2]) / (point.z[2] - last.z[2])
+        guess = last.z + share * (point.z - last.z)
+        clipped = self.shoot.correct(guess, np.array([0.0, 0.0, 1.0]), edge)
+        if clipped is not None:
+            self._keep(clipped, clipped.tangent(t, self.orientation))
+        if (edge == self.f_lo) == (self.direction > 0):
+            self.end(Status.FAILED, "the branch turned back and left the band where it "
+                     "started (a peak bent beyond the band, or an isola)")
+
+
+class _NotLocated(Exception):
+    pass
+
+
+#: Two walks that end within this distance (in z) of each other end at the same corner of
+#: the branch, from its two sides: they are one branch.
+_MEET = 1e-2
+
+
+def _join(walks: list[_Walk]) -> list[tuple[list[Point], list[tuple[int, str]], Status, str]]:
+    """Each branch's points (in the order of the walk up), marks, status and message: a
+    walk down that ends where the walk up ended is the same branch, joined to it (with a
+    fold where f turns back at the joint)."""
+    parts = [(w.points, w.marks, w.status, w.message, w.tangents) for w in walks]
+    if len(walks) == 2:
+        up, down = walks
+        n_up, n_down = len(up.points), len(down.points)
+        down_marks = [(n_up + n_down - 1 - i, kind) for i, kind in reversed(down.marks)]
+        parts[1] = (down.points[::-1], down_marks, down.status, down.message, None)
+        if n_up and n_down and np.abs(up.points[-1].z - down.points[-1].z).max() < _MEET:
+            # Walked in opposite directions: f turns back at the joint when the two
+            # walks ended moving the same way in f.
+            marks = list(up.marks)
+            if up.tangents[-1][2] * down.tangents[-1][2] > 0:
+                marks.append((n_up - 1, "fold"))
+            return [(up.points + down.points[::-1], marks + down_marks, Status.SUCCESS, "")]
+    return [part[:4] for part in parts if part[0]]
+
+
+def _unstable_count(point: Point) -> int:
+    return int((np.abs(point.multipliers) > 1.0).sum())
+
+
+#: A turn of f along a branch is a fold only if f moves back by more than this share of
+#: f_n0 (0.15 Hz on the paper's model) before it turns again: the fixed-step map is only
+#: piecewise smooth through loss of contact, and at its corners f zigzags by some 1e-3 Hz.
+_FOLD_PROMINENCE = 1e-4
+
+
+def _significant_folds(points: list[Point], marks: list[tuple[int, str]]):
+    """``marks`` with the folds that are significant turns of f (``_FOLD_PROMINENCE``):
+    per turn, the located fold nearest to it, or the turning point itself."""
+    f = np.array([p.z[2] for p in points])
+    turns = np.concatenate([find_peaks(sign * f, prominence=_FOLD_PROMINENCE)[0]
+                            for sign in (1.0, -1.0)])
+    folds = np.array([i for i, kind in marks if kind == "fold"], dtype=int)
+    chosen = [int(folds[np.argmin(np.abs(folds - k))]) if folds.size
+              and np.abs(folds - k).min() <= 2 else int(k) for k in turns]
+    kept = [(i, kind) for i, kind in marks if kind != "fold"] + [(i, "fold") for i in chosen]
+    return sorted(set(kept))
+
+
+def _results(shoot: PeriodMap, model, branches, pa_frac: float):
+    """The branches' columns (App of all points in one batched recording) and the
+    bifurcations, in the order of the branches."""
+    z = np.array([p.z for points, *_ in branches for p in points]).reshape(-1, 3)
+    y, v, f = (z * shoot.scale).T
+    app = _app(model, shoot, y, v, f)
+    out, marks, first = [], [], 0
+    for points, branch_marks, status, message in branches:
+        branch_marks = _significant_folds(points, branch_marks)
+        part = slice(first, first + len(points))
+        multipliers = np.array([p.multipliers for p in points]).reshape(-1, 2)
+        stable = np.abs(multipliers).max(axis=1, initial=0.0) < 1.0
+        out.append(ContinuedBranch(frequency_hz=f[part], app_m=app[part], stable=stable,
+                                   period=shoot.period, multipliers=multipliers,
+                                   y_start_m=y[part], v_start_m_s=v[part], status=int(status),
+                                   message=message))
+        marks += [(first + i, kind) for i, kind in branch_marks]
+        first += len(points)
+    bifurcations = [Bifurcation(kind=kind, frequency_hz=float(f[i]), app_m=float(app[i]),
+                                pa_frac=pa_frac) for i, kind in marks]
+    return out, bifurcations
+
+
+def _app(model, shoot: PeriodMap, y, v, f) -> np.ndarray:
+    """App over one orbit period from each point's start, all points in one kernel call."""
+    if not f.size:
+        return np.empty(0)
+    lanes = Lanes(model, f, np.full(f.size, shoot.p_a[0]), shoot.steps)
+    rec = lanes.record(y.copy(), v.copy(), shoot.period, np.full(f.size, -1, dtype=np.int64))
+    return rec.ymax - rec.ymin

@@ -1,0 +1,53 @@
+"""`python -m numerics continue`: periodic orbits continued in f_e at one P_a (issue 13)."""
+
+from __future__ import annotations
+
+import argparse
+
+from common import int_at_least, output_file, positive_float
+from perturb import PAPER_BAND_HZ, ContactModel
+from perturb._model_option import add_model_option, model_parameters
+
+from ._steady import _steps
+
+__all__ = ["add_continue_parser"]
+
+
+def add_continue_parser(sub) -> None:
+    parser = sub.add_parser("continue", help="periodic orbits continued in f_e through their "
+                            "folds, with stability (issue 13)")
+    parser.add_argument("--pa-frac", type=positive_float, required=True, help="P_a / Q")
+    parser.add_argument("--fmin", type=positive_float, default=PAPER_BAND_HZ[0], help="[Hz]")
+    parser.add_argument("--fmax", type=positive_float, default=PAPER_BAND_HZ[1], help="[Hz]")
+    parser.add_argument("--period", type=int_at_least(1, 8), default=1,
+                        help="p of the orbit continued (default 1)")
+    parser.add_argument("--steps", type=_steps, default="auto",
+                        help="RK4 steps per period, fixed along the branch: an integer >= 4 "
+                        "or 'auto' (the default: at least 512)")
+    parser.add_argument("--json", metavar="FILE", type=output_file,
+                        help="also write the result as JSON")
+    parser.add_argument("--plot", metavar="FILE.png", type=output_file,
+                        help="App against f_e: stable solid, unstable dashed, bifurcations "
+                        "marked")
+    parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    add_model_option(parser)
+    parser.set_defaults(run=_continue, parser=parser)
+
+
+def _continue(args: argparse.Namespace) -> int:
+    if not args.fmin < args.fmax:
+        args.parser.error(f"argument --fmax: must be above --fmin, got {args.fmin} and "
+                          f"{args.fmax}")
+    from .._continuation import continue_orbits
+
+    model = ContactModel(model_parameters(args))
+    result = continue_orbits(args.pa_frac, args.fmin, args.fmax, model=model,
+                             period=args.period, steps_per_period=args.steps, quiet=args.quiet)
+    if args.json:
+        result.to_json(args.json)
+    print(result)
+    if args.plot:
+        from ..plots import plot_continuation
+
+        plot_continuation(result, args.plot)
+    return 0

@@ -1,0 +1,56 @@
+"""A continued branch drawn from a ``Continuation``: App against f_e, stability shown."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from ._figure import finish, new_figure
+
+__all__ = ["plot_continuation"]
+
+_MARKS = {"fold": {"marker": "o", "color": "tab:red", "label": "fold"},
+          "period-doubling": {"marker": "s", "color": "tab:blue", "label": "period doubling"}}
+
+
+def plot_continuation(continuation, path=None, *, sweep=None) -> Figure:
+    """App (log axis) against f_e: stable parts solid, unstable parts dashed, folds and
+    period doublings marked; with ``sweep`` (a ``Sweep`` at the same P_a), its points too."""
+    figure, ax = new_figure((7.0, 4.2))
+    for branch in continuation.branches:
+        f, app = np.asarray(branch.frequency_hz), np.asarray(branch.app_m) * 1e9
+        for part in _runs(np.asarray(branch.stable, dtype=bool)):
+            stable = bool(branch.stable[part.start])
+            # One point either side joins the parts where the stability changes.
+            span = slice(part.start, min(part.stop + 1, f.size))
+            ax.semilogy(f[span], app[span], color="black", lw=1.0,
+                        ls="-" if stable else "--")
+    seen = set()
+    for mark in continuation.bifurcations:
+        style = dict(_MARKS[mark.kind])
+        label = style.pop("label")
+        label = None if mark.kind in seen else label
+        seen.add(mark.kind)
+        ax.semilogy([mark.frequency_hz], [mark.app_m * 1e9], ls="none", ms=5, label=label,
+                    **style)
+    if sweep is not None:
+        for run in (r for r in sweep.runs if np.isclose(r.pa_frac, continuation.pa_frac)):
+            ax.semilogy(run.frequency_hz, run.app_m * 1e9, "+" if run.direction == "down"
+                        else ".", ms=3, color="tab:orange", label=f"sweep {run.direction}")
+    ax.plot([], [], color="black", ls="-", label="stable")
+    ax.plot([], [], color="black", ls="--", label="unstable")
+    ax.set_xlabel("f_e [Hz]")
+    ax.set_ylabel("A_pp [nm]")
+    ax.set_title(f"Continued periodic orbits, P_a = {continuation.pa_frac:g} Q", fontsize=10)
+    ax.grid(True, which="major", alpha=0.3)
+    ax.legend(fontsize=7, loc="upper left")
+    return finish(figure, path)
+
+
+def _runs(flags: np.ndarray) -> list[slice]:
+    """The slices of consecutive equal ``flags``."""
+    if not flags.size:
+        return []
+    edges = np.flatnonzero(flags[1:] != flags[:-1]) + 1
+    bounds = np.concatenate([[0], edges, [flags.size]])
+    return [slice(a, b) for a, b in zip(bounds[:-1], bounds[1:])]

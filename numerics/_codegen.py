@@ -135,16 +135,29 @@ def compiled_kernels(model: ContactModel) -> ModuleType:
         return _LOADED[memo]
 
 
+#: (cache folder, parameters, effects) whose driver was found built in this process.
+_DRIVERS_BUILT: set[tuple] = set()
+
+
 def sweep_driver_built(model: ContactModel) -> bool:
     """Whether the compiled sweep driver of ``model`` is in the cache (numba's index file
-    of ``sweep_lanes`` beside the module): compiling it takes some 25-40 s once."""
+    of ``sweep_lanes`` beside the module): compiling it takes some 25-40 s once. A
+    positive answer is kept for the process (the look-up hashes the sources and lists a
+    folder of thousands of files: some 10 ms)."""
+    memo = (cache_dir(), model.parameters, model.effects)
+    if memo in _DRIVERS_BUILT:
+        return True
     path = usable_cache_dir() / f"kernel_{_cache_key(model)}.py"
-    return _intact(path) and any(path.parent.glob(f"__pycache__/{path.stem}.sweep_lanes-*.nbi"))
+    built = _intact(path) and any(path.parent.glob(f"__pycache__/{path.stem}.sweep_lanes-*.nbi"))
+    if built:
+        _DRIVERS_BUILT.add(memo)
+    return built
 
 
 def forget_sweep_driver(model: ContactModel) -> None:
     """Remove the compiled sweep driver's machine code of ``model`` from the cache (numba's
     files of ``sweep_lanes``), so that it is compiled again when next asked for."""
+    _DRIVERS_BUILT.discard((cache_dir(), model.parameters, model.effects))
     path = usable_cache_dir() / f"kernel_{_cache_key(model)}.py"
     for stale in path.parent.glob(f"__pycache__/{path.stem}.sweep_lanes-*"):
         stale.unlink(missing_ok=True)

@@ -6,7 +6,9 @@ over a few (P_a, f_e) points:
 - RK4 (full model, steady states by shooting from the reference orbit) against
   the same orbit at 3,200 steps per period and tol 1e-9;
 - the perturbation series of order N (Eq. 2.6) against RK4 of the Eq. 2.6 model at
-  1,600 steps per period;
+  1,600 steps per period, on the numpy route (``engine="numpy"``): every order the
+  same route whatever the cache holds (the compiled route, where an order's kernels
+  are built, is 10-20 times faster: ``make bench``);
 - scipy's DOP853 (full model lambdified from perturb, restarted at every crossing
   of y = 0; 30 periods from the reference orbit, App of the last period from its
   dense output) against the same reference as RK4.
@@ -111,12 +113,13 @@ def _series(quick: bool) -> Method:
     frac = SERIES_POINTS[0][0]
     ref = steady_states(f, frac * PAPER.Q_n, model=ContactModel(effects=EQ_2_6),
                         steps_per_period=1600, tol=1e-9)
-    method = Method("series", "order N", extra={"derive_seconds": []})
+    method = Method("series", "order N (numpy route)", extra={"derive_seconds": []})
     for order in SERIES_ORDERS[:5] if quick else SERIES_ORDERS:
         start = time.perf_counter()
         compile_series(order)  # derive and compile (cached after the first call)
         method.extra["derive_seconds"].append(time.perf_counter() - start)
-        response, seconds = _best_of(lambda o=order: frequency_response(f, frac, o))
+        response, seconds = _best_of(lambda o=order: frequency_response(f, frac, o,
+                                                                        engine="numpy"))
         method.settings.append(order)
         method.errors.append(_series_error(response, ref.app_m))
         method.seconds.append(seconds)

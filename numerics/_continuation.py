@@ -228,6 +228,12 @@ def continue_orbits(
     max_angle = check_positive("max_angle", max_angle)
     max_points = check_int("max_points", max_points, minimum=2)
     numbers = eq26_numbers(model.parameters)
+    low, high = _BAND_OF_F_N0[0] * numbers.f_n0_hz, _BAND_OF_F_N0[1] * numbers.f_n0_hz
+    if not (low <= fmin_hz and fmax_hz <= high):
+        raise ValueError(f"`fmin_hz` and `fmax_hz` must lie within {low:.3g}-{high:.3g} Hz "
+                         f"({_BAND_OF_F_N0[0]:g} to {_BAND_OF_F_N0[1]:g} f_n0: a period of the "
+                         f"branch must be a few to some ten thousand natural periods), got "
+                         f"{fmin_hz!r} and {fmax_hz!r}.")
     if steps_per_period == "auto":
         steps = max(int(lane_steps("auto", np.array([fmin_hz]), numbers.fastest_rate_per_s)[0]),
                     _AUTO_MIN_STEPS)
@@ -429,6 +435,12 @@ class _Walk:
                      "started (a peak bent beyond the band, or an isola)")
 
 
+#: The band a branch may be continued in, in units of f_n0: at a fixed step count a
+#: period holds some ten thousand natural periods at the low end (65,536 steps at
+#: "auto"), and a few steps per natural period at the high end.
+_BAND_OF_F_N0 = (1e-4, 1e2)
+
+
 class _NotLocated(Exception):
     pass
 
@@ -446,7 +458,8 @@ def _join(walks: list[_Walk]) -> list[tuple[list[Point], list[tuple[int, str]], 
     if len(walks) == 2:
         up, down = walks
         n_up, n_down = len(up.points), len(down.points)
-        down_marks = [(n_up + n_down - 1 - i, kind) for i, kind in reversed(down.marks)]
+        # The down walk's marks, indexed in its own points reversed (the order of f up).
+        down_marks = [(n_down - 1 - i, kind) for i, kind in reversed(down.marks)]
         parts[1] = (down.points[::-1], down_marks, down.status, down.message, None)
         if n_up and n_down and np.abs(up.points[-1].z - down.points[-1].z).max() < _MEET:
             # Walked in opposite directions: f turns back at the joint when the two
@@ -454,8 +467,10 @@ def _join(walks: list[_Walk]) -> list[tuple[list[Point], list[tuple[int, str]], 
             marks = list(up.marks)
             if up.tangents[-1][2] * down.tangents[-1][2] > 0:
                 marks.append((n_up - 1, "fold"))
-            return [(up.points + down.points[::-1], marks + down_marks, Status.SUCCESS, "")]
-    return [part[:4] for part in parts if part[0]]
+            joined = [(n_up + i, kind) for i, kind in down_marks]
+            return [(up.points + down.points[::-1], marks + joined, Status.SUCCESS, "")]
+    # A walk with no point is kept (as an empty branch): its status says why.
+    return [part[:4] for part in parts]
 
 
 def _unstable_count(point: Point) -> int:

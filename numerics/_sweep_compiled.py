@@ -87,7 +87,7 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
         started = time.perf_counter()
         points = block.stop - block.start
         out = _driver(kernels, freq[:, block], p_a, steps[:, block], cap[:, block],
-                      limit[:, block], *seed, continued, settings)
+                      limit[:, block], *seed, continued, settings, loading=not blocks)
         p_a_table = np.broadcast_to(p_a, (points, lanes)).T
         blocks.append(_orbits(kernels, freq[:, block], p_a_table, *out, app_rtol,
                               numbers.fastest_rate_per_s))
@@ -99,8 +99,11 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
     return Orbits.stack(blocks)
 
 
-def _driver(kernels, freq, p_a, steps, cap, limit, y, v, app, period, continued, settings):
-    """One compiled call of the driver on a block of points (contiguous copies)."""
+def _driver(kernels, freq, p_a, steps, cap, limit, y, v, app, period, continued, settings,
+            loading: bool):
+    """One compiled call of the driver on a block of points (contiguous copies). The first
+    call (``loading``) loads its machine code: an error there, on checked inputs, is a
+    broken cache (``DriverUnusable``); an error in a later block is raised as it is."""
     block = [np.ascontiguousarray(a) for a in (freq, steps, cap, limit)]
     try:
         return kernels.sweep_lanes(block[0], p_a, block[1], block[2], block[3], y, v, app,
@@ -108,9 +111,13 @@ def _driver(kernels, freq, p_a, steps, cap, limit, y, v, app, period, continued,
     except SystemError as error:  # a Ctrl-C during the call surfaces as this, chained
         if _interrupted(error):
             raise KeyboardInterrupt from None
+        if not loading:
+            raise
         raise DriverUnusable(f"the compiled sweep driver could not run ({error!r})") \
             from error
-    except Exception as error:  # the inputs are checked: numba could not load the driver
+    except Exception as error:
+        if not loading:
+            raise
         raise DriverUnusable(f"the compiled sweep driver could not be loaded ({error!r})") \
             from error
 

@@ -497,7 +497,7 @@ def _steady_states(steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
         level_steps = np.minimum(steps * 2**level, max_steps)
         if fine and use_newton:  # _steady._sharpen
             coarse = redo[(it[redo, I_STATUS] == _UNDER_RESOLVED)
-                          & np.isfinite(fl[redo, F_ERROR])]
+                          & (it[redo, I_METHOD] == _M_NEWTON) & np.isfinite(fl[redo, F_ERROR])]
             if coarse.size:
                 _solve_by_steps(coarse, level_steps, f_e, p_a, fl[:, F_Y].copy(),
                                 fl[:, F_V].copy(), it[:, I_PERIOD].copy(),

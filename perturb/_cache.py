@@ -19,9 +19,11 @@ Deleting the folder only costs the time to derive and compile again.
 
 from __future__ import annotations
 
+import atexit
 import hashlib
 import importlib.util
 import os
+import shutil
 import stat
 import sys
 import tempfile
@@ -85,17 +87,25 @@ def _private_temporary_folder() -> Path:
     system's temporary folder, if this user owns it, it is no link and no one else may
     write it (the cache's files are imported and unpickled: another user's files there
     would run their code); else a new folder of this process's own."""
+    if _PRIVATE:  # chosen once per process
+        return _PRIVATE[0]
     shared = Path(tempfile.gettempdir()) / f"contact-resonances-{os.getuid()}"
     try:
         shared.mkdir(mode=0o700, exist_ok=True)
         status = os.lstat(shared)
-        if (stat.S_ISDIR(status.st_mode) and status.st_uid == os.getuid()
-                and not status.st_mode & 0o022):
-            return shared
+        if stat.S_ISDIR(status.st_mode) and status.st_uid == os.getuid():
+            if not status.st_mode & 0o022:
+                return shared
+            # This user's, but others may have written into it (an older release made
+            # it with the umask's mode): its files cannot be trusted, nor closed after.
+            warnings.warn(f"{str(shared)!r} can be written by others, so it is not used "
+                          f"(remove it, or `chmod 700` it if only you wrote to it); the "
+                          f"kernels are compiled in a folder of this process's own",
+                          CacheWarning, stacklevel=4)
     except OSError:
         pass
-    if not _PRIVATE:
-        _PRIVATE.append(Path(tempfile.mkdtemp(prefix="contact-resonances-")))
+    _PRIVATE.append(Path(tempfile.mkdtemp(prefix="contact-resonances-")))
+    atexit.register(shutil.rmtree, _PRIVATE[0], True)  # nothing reuses it
     return _PRIVATE[0]
 
 

@@ -197,3 +197,43 @@ def test_the_command_line(tmp_path):
                           "--fmin", "1450", "--fmax", "1350"], capture_output=True, text=True)
     assert bad.returncode == 2
     assert bad.stderr.strip().splitlines()[-1].startswith("python -m numerics continue: error:")
+
+
+def test_the_down_walks_marks_stay_on_its_own_branch():
+    # Regression (review): when the walks up and down did not meet, the down walk's marks
+    # were indexed as if joined (off by the up walk's length), so a period doubling
+    # pointed into the other branch or past the end.
+    from types import SimpleNamespace
+
+    from numerics._continuation import _join
+
+    def walk(f0, df, n, marks, sign):
+        return SimpleNamespace(points=[SimpleNamespace(z=np.array([0.0, 0.0, f0 + df * i]))
+                                       for i in range(n)], marks=marks, status=Status.FAILED,
+                               message="", tangents=[np.array([0.0, 0.0, sign])] * n)
+
+    up, down = walk(0.2, 0.01, 10, [(4, "fold")], 1.0), walk(1.2, -0.01, 5,
+                                                              [(3, "period-doubling")], -1.0)
+    branches = _join([up, down])
+    assert [(len(points), marks) for points, marks, *_ in branches] == [
+        (10, [(4, "fold")]), (5, [(1, "period-doubling")])]  # point 3 of 5, reversed: 1
+
+
+def test_no_orbit_to_start_from_is_said_not_dropped():
+    # Regression (review): a walk with no point was dropped with its message, and the
+    # command printed "0 branch(es)" and exited 0. At 0.05 Q there is no stable period-2
+    # orbit at either end of 1300-1600 Hz: both walks say so, and the command exits 1.
+    run = continue_orbits(0.05, 1300.0, 1600.0, period=2, quiet=True)
+    assert [b.frequency_hz.size for b in run.branches] == [0, 0]
+    assert all("no stable 2-periodic orbit" in b.message for b in run.branches)
+
+
+def test_a_band_beyond_the_models_reach_is_refused_before_any_work():
+    # Regression (review): --fmin 1e-300 --fmax 1e300 ran, printed RuntimeWarnings and a
+    # meaningless one-point branch.
+    with pytest.raises(ValueError, match="must lie within 0.149-1.49e"):
+        continue_orbits(0.05, 1e-300, 1e300)
+    done = subprocess.run([sys.executable, "-m", "numerics", "continue", "--pa-frac", "0.05",
+                           "--fmin", "1e-300", "--fmax", "1e300", "--quiet"],
+                          capture_output=True, text=True)
+    assert done.returncode == 2 and "Warning" not in done.stderr

@@ -41,8 +41,12 @@ def _continue(args: argparse.Namespace) -> int:
     from .._continuation import continue_orbits
 
     model = ContactModel(model_parameters(args))
-    result = continue_orbits(args.pa_frac, args.fmin, args.fmax, model=model,
-                             period=args.period, steps_per_period=args.steps, quiet=args.quiet)
+    try:
+        result = continue_orbits(args.pa_frac, args.fmin, args.fmax, model=model,
+                                 period=args.period, steps_per_period=args.steps,
+                                 quiet=args.quiet)
+    except ValueError as error:  # e.g. a band out of the model's reach: before any work
+        args.parser.error(str(error))
     if args.json:
         result.to_json(args.json)
     print(result)
@@ -50,4 +54,5 @@ def _continue(args: argparse.Namespace) -> int:
         from ..plots import plot_continuation
 
         plot_continuation(result, args.plot)
-    return 0
+    # No point continued at all (no orbit to start from): said by each branch's message.
+    return 0 if any(b.frequency_hz.size for b in result.branches) else 1

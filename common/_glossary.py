@@ -264,8 +264,8 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     # -- continuation (issue 13)
     "bifurcations": ("folds and period doublings met along continued branches: kind, "
                      "frequency_hz, app_m, pa_frac", "", ""),
-    "stable": ("per point of a continued branch: both Floquet multipliers inside the unit "
-               "circle", "", ""),
+    "stable": ("per point of a continued branch, or per root of the series (null where "
+               "unknown): both Floquet multipliers inside the unit circle", "", ""),
     "fmin_hz": ("lower end of the band of f_e a branch is continued in", "Hz", ""),
     "fmax_hz": ("upper end of the band of f_e a branch is continued in", "Hz", ""),
     "ds_max": ("largest continuation step, in the scaled unknowns (y/y0, v/(omega0 y0), "
@@ -273,6 +273,13 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "max_angle": ("largest angle between the tangents of consecutive continued points",
                   "rad", ""),
     "max_points": ("most points a continued branch may take", "1", ""),
+    # -- the stability of the series' roots (issue 13, item 3)
+    "orbit_distance": ("how far the RK4 orbit of Eq. 2.6 that Newton reached from a series "
+                       "root's state lies from it: abs(dy) / (App/2) + abs(dv) / (Omega App/2)",
+                       "1", ""),
+    "reach": ("how far (in units of the series' error estimate, plus RK4's own error) the "
+              "RK4 orbit may lie from a series root's state and still give it a stability "
+              "flag", "1", ""),
 }
 
 

@@ -21,6 +21,7 @@ from numerics import (
     exact_backbone,
     hysteresis_loop,
     natural_frequency_vs_height,
+    series_stability,
     simulate,
     steady_states,
     sweep,
@@ -45,6 +46,8 @@ FACTORIES = {
         'effects = "auto"\nobservables = ["app", "extrema", "spectrum", "contact_fraction"]\n'
         '[excitation]\npa_frac = 0.05\nfrequency_hz = [700.0, 1400.0]\n'
         '[study]\nkind = "sweep"\ndirection = "up"\n')),
+    "SeriesStability": lambda: series_stability(frequency_response([1000.0, 1400.0], 0.05,
+                                                                   order=2)),
 }
 
 

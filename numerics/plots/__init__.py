@@ -27,6 +27,7 @@ _LAZY = {
     "plot_contact_fraction": "._observables",
     "plot_phase_portrait": "._observables",
     "plot_spectrum": "._observables",
+    "plot_series_stability": "._series_stability",
     "plot_time_history": "._observables",
     "plot_app": "._sweep",
     "plot_extrema": "._sweep",
@@ -58,6 +59,7 @@ __all__ = [
     "plot_hysteresis",
     "plot_natural_frequency",
     "plot_phase_portrait",
+    "plot_series_stability",
     "plot_spectrum",
     "plot_time_history",
 ]

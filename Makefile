@@ -28,6 +28,8 @@ bench: $(STAMP)
 figures: $(STAMP)
 	$(PY) -m numerics sweep --quiet --plot docs/figures/fig2-app.png
 	mv docs/figures/fig2-app-extrema.png docs/figures/fig3-extrema.png
+	$(PY) -m numerics continue --pa-frac 0.05 --fmin 1300 --fmax 1600 --quiet \
+	  --plot docs/figures/continuation-005q.png > /dev/null
 	$(PY) -c "from numerics import attractors; from numerics.plots import plot_census; \
 	plot_census(attractors(490.0, 0.5), 'docs/figures/census-490hz.png')"
 	for scene in paper_checks/scenes/examples/*.toml; do \

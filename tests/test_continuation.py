@@ -237,3 +237,21 @@ def test_a_band_beyond_the_models_reach_is_refused_before_any_work():
                            "--fmin", "1e-300", "--fmax", "1e300", "--quiet"],
                           capture_output=True, text=True)
     assert done.returncode == 2 and "Warning" not in done.stderr
+
+
+def test_the_command_draws_the_series_stability_over_the_continued_eq26_branch(tmp_path,
+                                                                              capsys):
+    # Issue 13 item 3: "the comparison shows the series' unstable branch against the
+    # continued unstable branch of RK4". --series N continues Eq. 2.6 (the series' model)
+    # and draws the series' roots, with their stability, over it. At 0.05 Q the middle
+    # root of the bent peak is unstable (40 of its 41 roots on this grid; one unknown).
+    from numerics.cli import main
+
+    plot = tmp_path / "series.png"
+    assert main(["continue", "--pa-frac", "0.05", "--fmin", "1300", "--fmax", "1500",
+                 "--series", "6", "--quiet", "--plot", str(plot)]) == 0
+    printed = capsys.readouterr().out
+    assert "fold              1394.0" in printed  # Eq. 2.6's fold, not the full model's
+    middle = next(line for line in printed.splitlines() if "branch 1:" in line)
+    assert " 0 stable" in middle and int(middle.split(" unstable")[0].split()[-1]) >= 30
+    assert plot.stat().st_size > 10_000

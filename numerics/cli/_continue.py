@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from common import int_at_least, output_file, positive_float
-from perturb import PAPER_BAND_HZ, ContactModel
+from perturb import EQ_2_6, FULL, PAPER_BAND_HZ, ContactModel
 from perturb._model_option import add_model_option, model_parameters
 
 from ._steady import _steps
@@ -29,6 +29,11 @@ def add_continue_parser(sub) -> None:
     parser.add_argument("--plot", metavar="FILE.png", type=output_file,
                         help="App against f_e: stable solid, unstable dashed, bifurcations "
                         "marked")
+    parser.add_argument("--series", metavar="N", type=int_at_least(0),
+                        help="also the order-N perturbation series, each root with the "
+                        "stability of the orbit it describes (issue 13, item 3); the "
+                        "branch continued is then the series' own model, Eq. 2.6, and "
+                        "--plot draws the series over it")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     add_model_option(parser)
     parser.set_defaults(run=_continue, parser=parser)
@@ -40,7 +45,8 @@ def _continue(args: argparse.Namespace) -> int:
                           f"{args.fmax}")
     from .._continuation import continue_orbits
 
-    model = ContactModel(model_parameters(args))
+    parameters = model_parameters(args)
+    model = ContactModel(parameters, FULL if args.series is None else EQ_2_6)
     try:
         result = continue_orbits(args.pa_frac, args.fmin, args.fmax, model=model,
                                  period=args.period, steps_per_period=args.steps,
@@ -50,9 +56,32 @@ def _continue(args: argparse.Namespace) -> int:
     if args.json:
         result.to_json(args.json)
     print(result)
+    stability = None if args.series is None else _series(args, parameters)
     if args.plot:
-        from ..plots import plot_continuation
+        from ..plots import plot_continuation, plot_series_stability
 
-        plot_continuation(result, args.plot)
+        if stability is None:
+            plot_continuation(result, args.plot)
+        else:
+            plot_series_stability(stability, result, args.plot)
     # No point continued at all (no orbit to start from): said by each branch's message.
     return 0 if any(b.frequency_hz.size for b in result.branches) else 1
+
+
+#: Frequencies of the series' response across the band (``--series``).
+SERIES_POINTS = 301
+
+
+def _series(args: argparse.Namespace, parameters):
+    """The order-N series across the band, each root with its stability; printed."""
+    import numpy as np
+
+    from perturb import frequency_response
+
+    from .._series_stability import series_stability
+
+    response = frequency_response(np.linspace(args.fmin, args.fmax, SERIES_POINTS),
+                                  args.pa_frac, args.series, parameters=parameters)
+    stability = series_stability(response)
+    print(stability)
+    return stability

@@ -223,6 +223,10 @@ class _Found:
         self.y, self.v, self.multipliers, self.converged = y, v, multipliers, converged
 
 
+#: The farthest (in App/2) an orbit may lie from a root's state and still give it a flag.
+MOST_ALLOWED = 0.5
+
+
 def _shoot(model, lanes: _Roots, p_a: float, steps: int) -> _Found:
     """Newton on the RK4 period map of Eq. 2.6 from the series' states, all lanes at once
     (``_Batch.newton``: one kernel call per iteration), then one more call at the result:
@@ -257,7 +261,10 @@ def _verdict(lanes: _Roots, found: _Found, model, steps: int, reach: float):
 
     distance = np.where(found.converged, distance_to(lanes.y, lanes.v), np.nan)
     rk4_error = (numbers.omega0_rad_s / (steps * lanes.f)) ** _RK4_ERROR_ORDER
-    allowed = reach * lanes.estimate + rk4_error
+    # At most half the amplitude, whatever the estimate: an estimate above 1 (an invalid
+    # root) would let in any orbit (a review found 0.3 Q, 690 Hz flagged stable on a
+    # 98 nm orbit for a 206 nm root, 1.35 App/2 away).
+    allowed = np.minimum(reach * lanes.estimate + rk4_error, MOST_ALLOWED)
     nearest = _nearest_root(lanes, distance_to)
     near = (found.converged & np.isfinite(lanes.estimate) & (distance <= allowed)
             & (nearest == np.arange(lanes.f.size)))
@@ -299,7 +306,8 @@ def _why_unknown(lanes: _Roots, found: _Found, i: int, distance, allowed, reach,
                 "from its state, is the root's")
     if distance > allowed:
         return (f"{where}: the orbit found lies {distance:.3g} App/2 from the series' "
-                f"state, beyond {reach:g} x its error estimate {lanes.estimate[i]:.3g} plus "
-                "RK4's error: another orbit")
+                f"state, beyond {allowed:.3g} ({reach:g} x its error estimate "
+                f"{lanes.estimate[i]:.3g} plus RK4's error, at most {MOST_ALLOWED:g}): "
+                "another orbit")
     return (f"{where}: the orbit found lies nearer the state of another root of the series "
             f"(App {lanes.app[nearest]:.4g} m) than its own: another root's orbit")

@@ -249,9 +249,22 @@ def test_the_command_draws_the_series_stability_over_the_continued_eq26_branch(t
 
     plot = tmp_path / "series.png"
     assert main(["continue", "--pa-frac", "0.05", "--fmin", "1300", "--fmax", "1500",
-                 "--series", "6", "--quiet", "--plot", str(plot)]) == 0
+                 "--series", "6", "--quiet", "--plot", str(plot),
+                 "--json", str(tmp_path / "c.json")]) == 0
+    assert load(tmp_path / "c-series.json").order == 6  # the series' stability, beside
     printed = capsys.readouterr().out
     assert "fold              1394.0" in printed  # Eq. 2.6's fold, not the full model's
     middle = next(line for line in printed.splitlines() if "branch 1:" in line)
     assert " 0 stable" in middle and int(middle.split(" unstable")[0].split()[-1]) >= 30
     assert plot.stat().st_size > 10_000
+
+
+def test_the_series_over_an_empty_branch_is_drawn_not_raised(tmp_path):
+    # Regression (review): with --series and --plot, a walk with no orbit to start from
+    # (period 2 at 0.05 Q) raised IndexError in the figure; it exits 1 with the message.
+    done = subprocess.run([sys.executable, "-m", "numerics", "continue", "--pa-frac", "0.05",
+                           "--fmin", "1300", "--fmax", "1600", "--period", "2", "--series",
+                           "2", "--quiet", "--plot", str(tmp_path / "p.png")],
+                          capture_output=True, text=True)
+    assert done.returncode == 1 and "Traceback" not in done.stderr
+    assert "no stable 2-periodic orbit" in done.stdout

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from common import int_at_least, output_file, positive_float
 from perturb import EQ_2_6, FULL, PAPER_BAND_HZ, ContactModel
@@ -29,11 +30,12 @@ def add_continue_parser(sub) -> None:
     parser.add_argument("--plot", metavar="FILE.png", type=output_file,
                         help="App against f_e: stable solid, unstable dashed, bifurcations "
                         "marked")
-    parser.add_argument("--series", metavar="N", type=int_at_least(0),
-                        help="also the order-N perturbation series, each root with the "
-                        "stability of the orbit it describes (issue 13, item 3); the "
-                        "branch continued is then the series' own model, Eq. 2.6, and "
-                        "--plot draws the series over it")
+    parser.add_argument("--series", metavar="N", type=int_at_least(0, MAX_SERIES_ORDER),
+                        help="also the order-N perturbation series (N <= "
+                        f"{MAX_SERIES_ORDER}), each root with the stability of the orbit it "
+                        "describes (issue 13, item 3); the branch continued is then the "
+                        "series' own model, Eq. 2.6, --plot draws the series over it, and "
+                        "--json FILE writes the series' stability to FILE-series.json too")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     add_model_option(parser)
     parser.set_defaults(run=_continue, parser=parser)
@@ -48,6 +50,8 @@ def _continue(args: argparse.Namespace) -> int:
     parameters = model_parameters(args)
     model = ContactModel(parameters, FULL if args.series is None else EQ_2_6)
     try:
+        # The series first: it is quick, and a value it refuses stops before the branch.
+        stability = None if args.series is None else _series(args, parameters)
         result = continue_orbits(args.pa_frac, args.fmin, args.fmax, model=model,
                                  period=args.period, steps_per_period=args.steps,
                                  quiet=args.quiet)
@@ -55,8 +59,11 @@ def _continue(args: argparse.Namespace) -> int:
         args.parser.error(str(error))
     if args.json:
         result.to_json(args.json)
+        if stability is not None:
+            stability.to_json(Path(args.json).with_name(Path(args.json).stem + "-series.json"))
     print(result)
-    stability = None if args.series is None else _series(args, parameters)
+    if stability is not None:
+        print(stability)
     if args.plot:
         from ..plots import plot_continuation, plot_series_stability
 
@@ -70,6 +77,9 @@ def _continue(args: argparse.Namespace) -> int:
 
 #: Frequencies of the series' response across the band (``--series``).
 SERIES_POINTS = 301
+#: The highest order --series takes: a bound, so that a typo does not start a derivation
+#: that runs for minutes after the branch is done (`perturb derive --order 30`: 76 s).
+MAX_SERIES_ORDER = 12
 
 
 def _series(args: argparse.Namespace, parameters):
@@ -82,6 +92,4 @@ def _series(args: argparse.Namespace, parameters):
 
     response = frequency_response(np.linspace(args.fmin, args.fmax, SERIES_POINTS),
                                   args.pa_frac, args.series, parameters=parameters)
-    stability = series_stability(response)
-    print(stability)
-    return stability
+    return series_stability(response)

@@ -52,6 +52,8 @@ def _draw(ax, frequency_hz, app_m, flags: np.ndarray, breaks: np.ndarray, **styl
     points k and k + 1 are not joined); a run joins the next by one point where the flag
     changes and both are known."""
     f, app = np.asarray(frequency_hz), np.asarray(app_m) * 1e9
+    if not f.size:  # an empty branch (a walk with no orbit to start from)
+        return
     edges = np.flatnonzero((flags[1:] != flags[:-1]) | breaks) + 1
     bounds = np.concatenate([[0], edges, [f.size]])
     for start, stop in zip(bounds[:-1], bounds[1:]):

@@ -135,8 +135,9 @@ def compiled_kernels(model: ContactModel) -> ModuleType:
         return _LOADED[memo]
 
 
-#: (cache folder, parameters, effects) whose driver was found built in this process.
-_DRIVERS_BUILT: set[tuple] = set()
+#: (cache folder, parameters, effects) whose driver was found built in this process, and
+#: the index file found (a stat of it is cheap; another process may remove it).
+_DRIVERS_BUILT: dict[tuple, Path] = {}
 
 
 def sweep_driver_built(model: ContactModel) -> bool:
@@ -145,19 +146,21 @@ def sweep_driver_built(model: ContactModel) -> bool:
     positive answer is kept for the process (the look-up hashes the sources and lists a
     folder of thousands of files: some 10 ms)."""
     memo = (cache_dir(), model.parameters, model.effects)
-    if memo in _DRIVERS_BUILT:
+    if memo in _DRIVERS_BUILT and _DRIVERS_BUILT[memo].exists():
         return True
+    _DRIVERS_BUILT.pop(memo, None)
     path = usable_cache_dir() / f"kernel_{_cache_key(model)}.py"
-    built = _intact(path) and any(path.parent.glob(f"__pycache__/{path.stem}.sweep_lanes-*.nbi"))
-    if built:
-        _DRIVERS_BUILT.add(memo)
-    return built
+    index = next(path.parent.glob(f"__pycache__/{path.stem}.sweep_lanes-*.nbi"), None)
+    if index is None or not _intact(path):
+        return False
+    _DRIVERS_BUILT[memo] = index
+    return True
 
 
 def forget_sweep_driver(model: ContactModel) -> None:
     """Remove the compiled sweep driver's machine code of ``model`` from the cache (numba's
     files of ``sweep_lanes``), so that it is compiled again when next asked for."""
-    _DRIVERS_BUILT.discard((cache_dir(), model.parameters, model.effects))
+    _DRIVERS_BUILT.pop((cache_dir(), model.parameters, model.effects), None)
     path = usable_cache_dir() / f"kernel_{_cache_key(model)}.py"
     for stale in path.parent.glob(f"__pycache__/{path.stem}.sweep_lanes-*"):
         stale.unlink(missing_ok=True)

@@ -205,3 +205,20 @@ def test_a_walk_cut_into_one_point_blocks_matches_the_python_sweep(monkeypatch):
     _sweep_compiled.sweep_lanes_compiled(freq[None, :], np.array([0.2 * PAPER.Q_n]),
                                          ContactModel(), done=done.append, **ACCURACY)
     assert done == [1, 8]  # the first block is one point, to measure the time per point
+
+
+def test_a_driver_removed_by_another_process_is_seen_as_not_built(tmp_path, monkeypatch):
+    # Regression (review): "built" was kept for the process, so after another process
+    # removed the driver's files "auto" would start a silent 25-40 s compile. The memo
+    # keeps the index file found, and a stat of it decides.
+    from numerics import _codegen
+
+    index = tmp_path / "kernel_x.sweep_lanes-1.py311.nbi"
+    index.write_text("")
+    model = ContactModel()
+    memo = (_codegen.cache_dir(), model.parameters, model.effects)
+    monkeypatch.setitem(_codegen._DRIVERS_BUILT, memo, index)
+    assert sweep_driver_built(model)  # the memo, while its file is there
+    index.unlink()
+    monkeypatch.setattr(_codegen, "usable_cache_dir", lambda: tmp_path)  # nothing built
+    assert not sweep_driver_built(model)

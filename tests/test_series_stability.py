@@ -195,3 +195,15 @@ def test_a_root_whose_orbit_was_not_found_gets_no_flag():
     branch = stability.branches[0]
     assert branch.stable.tolist() == [None]
     assert "1.35 App/2" in branch.message[0] and "at most 0.5" in branch.message[0]
+
+
+def test_an_orbit_nearer_another_roots_state_gives_no_flag():
+    # 0.2 Q, 762.5 Hz (past the 1/2 superharmonic peak): Newton from root 0 (App 89.3 nm,
+    # estimate 0.30) converges 0.36 App/2 away, within its reach and the cap, but on the
+    # orbit of root 2 (68.3 nm), whose state lies nearer: root 0 gets no flag, root 2
+    # keeps its own (measured). Without the check both would say "stable".
+    stability = series_stability(frequency_response(np.array([762.5]), 0.2, 6))
+    first, third = stability.branches[0], stability.branches[2]
+    assert first.stable.tolist() == [None] and 0.3 < first.orbit_distance[0] < 0.5
+    assert "nearer the state of another root" in first.message[0]
+    assert third.stable.tolist() == [True]

@@ -6,6 +6,7 @@
 - the input checks of every public function (``_checks.py``) and the argument
   types of every command line (``_cli.py``);
 - progress on stderr (``_progress.py``, through tqdm);
+- a package's names imported at first use (``_lazy.py``);
 - ``GLOSSARY``: one name per quantity (``_glossary.py``, shown in the README).
 
 It imports neither sympy nor numba, so the command lines can start without them.
@@ -33,6 +34,7 @@ from ._cli import (
 )
 from ._glossary import GLOSSARY, glossary_table
 from ._json import dumps, jsonable, write_json
+from ._lazy import lazy_names
 from ._progress import note, progress
 from ._results import RESULT_CLASSES, Result, from_dict, load, result
 from ._status import Status
@@ -55,6 +57,7 @@ __all__ = [
     "int_at_least",
     "jsonable",
     "lane_array",
+    "lazy_names",
     "load",
     "lookup",
     "name_value",

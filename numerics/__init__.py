@@ -5,9 +5,7 @@ scene asks for; see ``simulate``. Every result object keeps the contract of
 ``common.Result`` (its model and settings, strict JSON, ``load``).
 """
 
-import importlib
-
-from common import Status, load
+from common import Status, lazy_names, load
 
 # Every name is imported at first use (PEP 562), so that a command loads only what
 # it runs: scipy.optimize (the backbone), sympy (what derives) and the scenes stay
@@ -50,16 +48,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str):
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_LAZY[name], __name__), name)
-    globals()[name] = value  # imported once
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+__getattr__, __dir__ = lazy_names(__name__, _LAZY, globals())
 
 
 __all__ = [

@@ -12,7 +12,7 @@ solved for the frequency response (``frequency_response``, whose orbits
 gives the free backbone exactly.
 """
 
-import importlib
+from common import lazy_names
 
 # Light names, imported with the package: none of them imports sympy.
 from ._effects import EQ_2_6, FULL, LINEAR, Effects
@@ -58,18 +58,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str):
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    module_name, attribute = _LAZY[name]
-    module = importlib.import_module(module_name, __name__)
-    value = module if attribute is None else getattr(module, attribute)
-    globals()[name] = value  # imported once
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+__getattr__, __dir__ = lazy_names(__name__, _LAZY, globals())
 
 
 __all__ = [

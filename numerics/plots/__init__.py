@@ -10,7 +10,7 @@ The figures and animations of scenes take plain numpy arrays (SI units) instead:
 ``animate_sweep`` write a GIF and return its path.
 """
 
-import importlib
+from common import lazy_names
 
 # Each figure's module is imported at first use (PEP 562): the comparison's and the
 # backbone's figures import the exact backbone (scipy.optimize, sympy), which a scene
@@ -34,16 +34,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str):
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_LAZY[name], __name__), name)
-    globals()[name] = value  # imported once
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+__getattr__, __dir__ = lazy_names(__name__, _LAZY, globals())
 
 
 __all__ = [

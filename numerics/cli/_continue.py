@@ -6,10 +6,10 @@ import argparse
 from pathlib import Path
 
 from common import int_at_least, output_file, positive_float
-from perturb import EQ_2_6, FULL, PAPER_BAND_HZ, ContactModel
+from perturb import EQ_2_6, FULL, ContactModel
 from perturb._model_option import add_model_option, model_parameters
 
-from ._steady import _steps
+from ._steady import _steps, add_band_options, check_band
 
 __all__ = ["add_continue_parser"]
 
@@ -18,8 +18,7 @@ def add_continue_parser(sub) -> None:
     parser = sub.add_parser("continue", help="periodic orbits continued in f_e through their "
                             "folds, with stability (issue 13)")
     parser.add_argument("--pa-frac", type=positive_float, required=True, help="P_a / Q")
-    parser.add_argument("--fmin", type=positive_float, default=PAPER_BAND_HZ[0], help="[Hz]")
-    parser.add_argument("--fmax", type=positive_float, default=PAPER_BAND_HZ[1], help="[Hz]")
+    add_band_options(parser)
     parser.add_argument("--period", type=int_at_least(1, 8), default=1,
                         help="p of the orbit continued (default 1)")
     parser.add_argument("--steps", type=_steps, default="auto",
@@ -42,9 +41,7 @@ def add_continue_parser(sub) -> None:
 
 
 def _continue(args: argparse.Namespace) -> int:
-    if not args.fmin < args.fmax:
-        args.parser.error(f"argument --fmax: must be above --fmin, got {args.fmin} and "
-                          f"{args.fmax}")
+    check_band(args)
     from .._continuation import continue_orbits
 
     parameters = model_parameters(args)

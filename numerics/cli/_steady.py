@@ -38,8 +38,7 @@ def add_sweep_parser(sub) -> None:
     parser.add_argument("--pa-frac", type=nonnegative_float, nargs="+",
                         default=list(PAPER_PANEL_FRACTIONS),
                         help="force amplitudes P_a / Q (default: the paper's ten)")
-    parser.add_argument("--fmin", type=positive_float, default=PAPER_BAND_HZ[0], help="[Hz]")
-    parser.add_argument("--fmax", type=positive_float, default=PAPER_BAND_HZ[1], help="[Hz]")
+    add_band_options(parser)
     parser.add_argument("--points", type=int_at_least(2, MAX_STATES), default=311)
     parser.add_argument("--direction", choices=DIRECTIONS, default="both")
     parser.add_argument("--plot", metavar="FILE.png", type=output_file,
@@ -48,10 +47,21 @@ def add_sweep_parser(sub) -> None:
     parser.set_defaults(run=_sweep, parser=parser)
 
 
-def _sweep(args: argparse.Namespace) -> int:
+def add_band_options(parser: argparse.ArgumentParser) -> None:
+    """--fmin and --fmax, the paper's band by default (``check_band`` relates them)."""
+    parser.add_argument("--fmin", type=positive_float, default=PAPER_BAND_HZ[0], help="[Hz]")
+    parser.add_argument("--fmax", type=positive_float, default=PAPER_BAND_HZ[1], help="[Hz]")
+
+
+def check_band(args: argparse.Namespace) -> None:
+    """--fmax above --fmin, or exit 2 (two options: no argparse type can check it)."""
     if not args.fmin < args.fmax:
         args.parser.error(f"argument --fmax: must be above --fmin, got {args.fmin} and "
                           f"{args.fmax}")
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    check_band(args)
     if args.plot:  # Fig. 3 goes beside Fig. 2: that file must be writable too
         try:
             output_file(_extrema_path(args.plot))

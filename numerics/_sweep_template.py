@@ -513,12 +513,9 @@ def _steady_states(steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
                        fine_mult, fine_maxima, fine_minima)
                 for lane in coarse[~found]:
                     it[lane, I_RUN] += fine_it[lane, I_RUN]
-                keep = np.ones(redo.size, dtype=np.bool_)
-                for k in range(redo.size):
-                    for lane in coarse[found]:
-                        if redo[k] == lane:
-                            keep[k] = False
-                redo = redo[keep]
+                sharpened = np.zeros(n, dtype=np.bool_)
+                sharpened[coarse[found]] = True
+                redo = redo[~sharpened[redo]]
         if fine and not redo.size:
             continue
         _solve_by_steps(redo, level_steps, f_e, p_a, y, v, guess, span, cap, limit,

@@ -108,14 +108,9 @@ def _driver(kernels, freq, p_a, steps, cap, limit, y, v, app, period, continued,
     try:
         return kernels.sweep_lanes(block[0], p_a, block[1], block[2], block[3], y, v, app,
                                    period, continued, *settings)
-    except SystemError as error:  # a Ctrl-C during the call surfaces as this, chained
-        if _interrupted(error):
-            raise KeyboardInterrupt from None
-        if not loading:
-            raise
-        raise DriverUnusable(f"the compiled sweep driver could not run ({error!r})") \
-            from error
     except Exception as error:
+        if _interrupted(error):  # a Ctrl-C during the call surfaces as a SystemError
+            raise KeyboardInterrupt from None
         if not loading:
             raise
         raise DriverUnusable(f"the compiled sweep driver could not be loaded ({error!r})") \

@@ -268,3 +268,24 @@ def test_the_series_over_an_empty_branch_is_drawn_not_raised(tmp_path):
                           capture_output=True, text=True)
     assert done.returncode == 1 and "Traceback" not in done.stderr
     assert "no stable 2-periodic orbit" in done.stdout
+
+
+def test_a_period_doubling_is_where_time_marching_first_shows_period_2():
+    # Issue 13: a period doubling found by continuation agrees with where time marching
+    # first shows a period-2 orbit. At 1.25 Q the bouncing period-1 orbit doubles near
+    # 1557 Hz (a 5 Hz sweep shows period 2 from 775 to 1555 Hz); the down walk from
+    # 1700 Hz locates it, and a march down on a 0.5 Hz grid turns period 2 there.
+    run = continue_orbits(1.25, 1500.0, 1700.0)
+    (doubling,) = [b.frequency_hz for b in run.bifurcations if b.kind == "period-doubling"]
+    grid = np.arange(1554.0, 1560.01, 0.5)
+    marched = sweep(grid, 1.25, direction="down", method="march").runs[0]
+    assert marched.settled[grid[::-1] > doubling].all()
+    first_doubled = np.flatnonzero(marched.period == 2)[0]
+    above, below = marched.frequency_hz[first_doubled - 1], marched.frequency_hz[first_doubled]
+    assert (marched.period[:first_doubled] == 1).all()
+    assert below < doubling < above, (below, doubling, above)  # measured: 1557.16 Hz
+    # The branch is stable above the doubling and unstable below it (a multiplier past -1).
+    (branch,) = [b for b in run.branches if b.frequency_hz.size]
+    above_it, well_below = branch.frequency_hz > doubling, branch.frequency_hz < doubling - 1.0
+    assert above_it.any() and well_below.any()
+    assert branch.stable[above_it].all() and not branch.stable[well_below].any()

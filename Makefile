@@ -37,6 +37,9 @@ figures: $(STAMP)
 	mv docs/figures/fig2-app-extrema.png docs/figures/fig3-extrema.png
 	$(PY) -m numerics continue --pa-frac 0.05 --fmin 1300 --fmax 1600 --quiet \
 	  --plot docs/figures/continuation-005q.png > /dev/null
+	$(PY) -m numerics folds --fmin 300 --fmax 1600 --pa-min 0.02 --pa-max 0.8 \
+	  --seed-pa-frac 0.8 0.65 0.4 0.06 --quiet \
+	  --plot docs/figures/folds.png > /dev/null
 	$(PY) -c "from numerics import attractors; from numerics.plots import plot_census; \
 	plot_census(attractors(490.0, 0.5), 'docs/figures/census-490hz.png')"
 	for scene in paper_checks/scenes/examples/*.toml; do \

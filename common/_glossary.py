@@ -201,6 +201,17 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "cluster_tol": ("states closer than this fraction of App are one attractor", "1", ""),
     "cluster_floor_y0": ("... of App, but never of less than this fraction of y0", "1", ""),
     "rest_fraction_y0": ("an orbit with App below this fraction of y0 is rest", "1", ""),
+    # -- the multistability atlas (issue 13): arrays and lists over cells, shape (P_a, f_e)
+    "attractor_count": ("per cell of the atlas, the distinct attractors the census finds "
+                        "(-1: the cell's task failed)", "1", "Section 3.3"),
+    "attractor_periods": ("per cell of the atlas, the period p of each attractor, largest "
+                          "basin first", "1", ""),
+    "attractor_labels": ("per cell of the atlas, the label of each attractor", "", "Eq. 3.1"),
+    "attractor_basins": ("per cell of the atlas, the basin fraction of each attractor", "1", ""),
+    "attractor_app_m": ("per cell of the atlas, App of each attractor", "m", "Fig. 2"),
+    "cells": ("the atlas's grid: [frequencies, amplitudes]", "1", ""),
+    "tasks": ("how many tasks (blocks of consecutive cells) the atlas was cut into", "1", ""),
+    "cell_time_s": ("the atlas's wall time per cell", "s", ""),
     "models": ("the effects of each RK4 model of the comparison, by model_name", "", ""),
     # -- derived values in the JSON
     "height_ratio": ("series_app_m / rk4_app_m of a peak", "1", ""),
@@ -273,6 +284,21 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "max_angle": ("largest angle between the tangents of consecutive continued points",
                   "rad", ""),
     "max_points": ("most points a continued branch may take", "1", ""),
+    "switched_at_hz": ("the period doublings a period-2p branch was switched onto at "
+                       "(branch switching)", "Hz", ""),
+    # -- fold curves in the (f_e, P_a) plane (issue 13, item 4)
+    "fold_curves": ("fold curves of period-1 orbits continued in (f_e, P_a): per point "
+                    "frequency_hz, pa_frac, app_m, multipliers, state", "", "Section 3.3"),
+    "cusps": ("where the two folds of one resonance meet: the least P_a of its bistable "
+              "region", "", "Section 3.3"),
+    "seeds": ("the folds located by one-parameter continuation that fold curves start from",
+              "", ""),
+    "resonance": ("m of the resonance f_n0 / m a fold curve bounds (1 primary, 2 the 1/2 "
+                  "superharmonic; 0 unknown: no cusp in the box)", "1", "Section 3"),
+    "pa_min": ("lower end of the band of P_a / Q fold curves are continued in", "1", ""),
+    "pa_max": ("upper end of the band of P_a / Q fold curves are continued in", "1", ""),
+    "seed_pa_fracs": ("the P_a / Q at which folds are sought to start fold curves from", "1",
+                      ""),
     # -- the stability of the series' roots (issue 13, item 3)
     "orbit_distance": ("how far the RK4 orbit of Eq. 2.6 that Newton reached from a series "
                        "root's state lies from it: abs(dy) / (App/2) + abs(dv) / (Omega App/2)",
@@ -280,6 +306,33 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "reach": ("how far (in units of the series' error estimate, plus RK4's own error) the "
               "RK4 orbit may lie from a series root's state and still give it a stability "
               "flag", "1", ""),
+    # -- the largest Lyapunov exponent (issue 13, item 6)
+    "exponent_per_s": ("largest Lyapunov exponent lambda: the mean growth rate of a small "
+                       "perturbation, by Benettin's method on the RK4 map's tangent", "1/s",
+                       ""),
+    "exponent_per_period": ("lambda T = lambda / f_e: the perturbation's log growth per "
+                            "drive period", "1", ""),
+    "error_per_s": ("error estimate of lambda: the largest of the block means' standard "
+                    "error, half the gap between the run's halves, and ln(K) / (K T) after K "
+                    "periods", "1/s", ""),
+    "error_per_period": ("error_per_s / f_e", "1", ""),
+    "block_exponent_per_s": ("lambda over each block of consecutive periods of the run",
+                             "1/s", ""),
+    "lyapunov": ("the largest Lyapunov exponent of each census lane that did not settle "
+                 "(a LyapunovExponents)", "", ""),
+    "lyapunov_lanes": ("the positions, among the census's lanes, of the lanes whose exponent "
+                       "`lyapunov` holds", "1", ""),
+    "lyapunov_periods": ("drive periods over which a census measures the largest Lyapunov "
+                         "exponent of each lane that did not settle (null: not measured)",
+                         "1", ""),
+    "chaotic_fraction": ("share of the initial states whose lane is chaotic: largest "
+                         "Lyapunov exponent above 3 error estimates", "1", ""),
+    "motion": ("what lambda says: chaotic (lambda > 3 error), periodic or transient "
+               "(lambda < -3 error) or undecided (quasi-periodic included)", "", ""),
+    "discard_periods": ("periods run before lambda is measured (the tangent turns into the "
+                        "most expanding direction)", "1", ""),
+    "blocks": ("how many blocks of periods the run of lambda is split into for its error",
+               "1", ""),
 }
 
 

@@ -215,6 +215,9 @@ def _smoke(module: ModuleType) -> None:
         np.empty((1, 0)), np.empty((1, 0)), np.empty((1, 0), dtype=np.int8),
         np.zeros(1, dtype=np.int64), np.empty((1, 0)), np.empty((1, 0)), lane)
     module.shoot_periods(*[a.copy() for a in state], drive, 1, np.empty((1, 2, 2)))
+    module.lyapunov_periods(*[a.copy() for a in state[:2]], np.ones(1), np.zeros(1),
+                            *[a.copy() for a in state[2:]], drive, 1.0, np.empty((1, 1)), 1,
+                            failed.copy(), 0, lane)
     module.strobe_periods(*[a.copy() for a in state], drive, 1, np.empty((1, 1)),
                           np.empty((1, 1)), np.empty(1), failed.copy(), 0, lane)
     module.acceleration_batch(lane.copy(), lane.copy(), lane.copy())

@@ -318,14 +318,17 @@ class _Walk:
         self.status, self.message = Status.SUCCESS, ""
         self.orientation = 1.0  # the sign of det([J; t]) along the branch
         self.resume: float | None = None  # the step to resume with after a corner
+        self.from_edge = True  # started at the band's edge (not off a bifurcation)
 
     def end(self, status: Status, message: str) -> None:
         self.status, self.message = status, message
 
-    def run(self, first: Point) -> None:
-        """From ``first``, into the band (up or down in f), until f leaves the band."""
+    def run(self, first: Point, away: np.ndarray | None = None) -> None:
+        """From ``first``, into the band (up or down in f) or along ``away`` (a direction
+        in z: off a bifurcation), until f leaves the band."""
         # Into the band at the start; the branch keeps that orientation.
-        inward = np.array([0.0, 0.0, float(self.direction)])
+        inward = np.array([0.0, 0.0, float(self.direction)]) if away is None else away
+        self.from_edge = away is None
         self.orientation = first.orientation(inward) or 1.0
         t = first.tangent(inward, self.orientation)
         self._keep(first, t)
@@ -430,7 +433,7 @@ class _Walk:
         clipped = self.shoot.correct(guess, np.array([0.0, 0.0, 1.0]), edge)
         if clipped is not None:
             self._keep(clipped, clipped.tangent(t, self.orientation))
-        if (edge == self.f_lo) == (self.direction > 0):
+        if self.from_edge and (edge == self.f_lo) == (self.direction > 0):
             self.end(Status.FAILED, "the branch turned back and left the band where it "
                      "started (a peak bent beyond the band, or an isola)")
 

@@ -58,7 +58,9 @@ class Point:
         kept through a fold, smooth or at a corner of the piecewise smooth map, where
         t turns back (the sign of t . reference would turn the walk around there)."""
         bordered = np.vstack([self.jacobian, reference])
-        t = np.linalg.solve(bordered, np.array([0.0, 0.0, 1.0]))
+        last = np.zeros(bordered.shape[0])  # any number of unknowns (the fold curves: 4)
+        last[-1] = 1.0
+        t = np.linalg.solve(bordered, last)
         t /= np.linalg.norm(t)
         return t if np.linalg.det(np.vstack([self.jacobian, t])) * orientation > 0 else -t
 

@@ -230,6 +230,41 @@ def shoot_periods(y, v, dt, p_a, drive, periods, monodromy):
 
 
 @numba.njit(cache=True)
+def lyapunov_periods(y, v, dy, dv, dt, p_a, drive, v_scale, log_growth, periods_per_block,
+                     failed_period, first, limit):
+    """Benettin's method: advance every lane and one tangent vector (dy, dv) of it by
+    whole periods, the tangent by the derivative of the RK4 step (``rk4_step_tangent``).
+
+    After each period the tangent is scaled back to unit length in the norm
+    sqrt(dy^2 + (dv / v_scale)^2), and the log of its growth over the period is added
+    to log_growth[lane, period // periods_per_block]; the periods run are
+    log_growth.shape[1] * periods_per_block. A tangent that vanished or became
+    non-finite makes its lane's sums NaN.
+    """
+    steps = (drive.shape[0] - 1) // 2
+    lanes = y.shape[0]
+    log_growth[:, :] = 0.0
+    for period in range(log_growth.shape[1] * periods_per_block):
+        for k in range(steps):
+            c0, ch, c1 = drive_at_step(drive, k)
+            for lane in range(lanes):
+                pa = p_a[lane]
+                y[lane], v[lane], dy[lane], dv[lane] = rk4_step_tangent(
+                    y[lane], v[lane], dy[lane], dv[lane], dt[lane], pa * c0, pa * ch, pa * c1
+                )
+        block = period // periods_per_block
+        for lane in range(lanes):
+            norm = math.sqrt(dy[lane] * dy[lane] + (dv[lane] / v_scale) ** 2)
+            if norm > 0.0:  # False for NaN too
+                log_growth[lane, block] += math.log(norm)
+                dy[lane] /= norm
+                dv[lane] /= norm
+            else:
+                log_growth[lane, block] = math.nan
+        mark_failed(y, v, failed_period, first + period, limit)
+
+
+@numba.njit(cache=True)
 def strobe_periods(y, v, dt, p_a, drive, periods, strobe_y, strobe_v, span, failed_period, first,
                    limit):
     """Advance by whole periods, keeping the state at the end of every period

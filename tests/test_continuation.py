@@ -289,3 +289,57 @@ def test_a_period_doubling_is_where_time_marching_first_shows_period_2():
     above_it, well_below = branch.frequency_hz > doubling, branch.frequency_hz < doubling - 1.0
     assert above_it.any() and well_below.any()
     assert branch.stable[above_it].all() and not branch.stable[well_below].any()
+
+
+@pytest.fixture(scope="module")
+def doubling_125():
+    run = continue_orbits(1.25, 1500.0, 1700.0)
+    (doubling,) = [b for b in run.bifurcations if b.kind == "period-doubling"]
+    return run, doubling
+
+
+def test_the_switched_branch_is_the_period_2_orbit_that_marching_reaches(doubling_125):
+    # Issue 13, item 2: a branch can be switched onto the period-doubled branch. It starts
+    # at the doubling, and each of its stable orbits, perturbed by 1 % of App, is where a
+    # march at the same steps returns to (two routes: shooting and time marching).
+    from numerics import steady_states, switch_branch
+
+    run, doubling = doubling_125
+    doubled = switch_branch(run, doubling)
+    (branch,) = doubled.branches
+    assert branch.period == 2 and doubled.settings["switched_at_hz"] == doubling.frequency_hz
+    assert abs(branch.frequency_hz[0] - doubling.frequency_hz) < 1e-3  # measured: 2e-4 Hz
+    assert branch.frequency_hz.min() == 1500.0  # walked down to the band's end
+    # (Nearer the doubling a multiplier nears 1 and marching takes longer than its cap.)
+    check = np.flatnonzero(branch.stable & (branch.frequency_hz < 1555.0))[::4]
+    assert check.size >= 5
+    nudge = 0.01 * branch.app_m[check]
+    marched = steady_states(branch.frequency_hz[check], 1.25 * PAPER.Q_n, method="march",
+                            steps_per_period=run.settings["steps_per_period"],
+                            refinements=0, app_rtol=None, tol=1e-9,
+                            y_init_m=branch.y_start_m[check] + nudge,
+                            v_init_m_s=branch.v_start_m_s[check])
+    assert marched.settled.all() and (marched.period == 2).all()
+    error = np.abs(marched.app_m / branch.app_m[check] - 1)
+    assert error.max() < 1e-8, error.max()  # measured 1.5e-9: the march's tol is 1e-9
+
+
+def test_only_a_period_doubling_of_the_run_is_switched_at(doubling_125, primary_005):
+    from numerics import switch_branch
+
+    run, doubling = doubling_125
+    with pytest.raises(ValueError, match="`bifurcation` must be one of `run.bifurcations`"):
+        switch_branch(run, primary_005.bifurcations[0])
+    with pytest.raises(ValueError, match="`run` must be a Continuation"):
+        switch_branch(doubling, doubling)
+
+
+def test_the_command_line_switches_at_each_period_doubling(tmp_path, doubling_125):
+    out = tmp_path / "c.json"
+    done = subprocess.run([sys.executable, "-m", "numerics", "continue", "--pa-frac", "1.25",
+                           "--fmin", "1500", "--fmax", "1700", "--switch", "--json", str(out),
+                           "--quiet"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    data = json.loads(out.read_text())
+    assert [b["period"] for b in data["branches"] if b["frequency_hz"]] == [1, 2]
+    assert data["settings"]["switched_at_hz"] == [doubling_125[1].frequency_hz]

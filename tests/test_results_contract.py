@@ -15,11 +15,14 @@ import pytest
 
 from common import GLOSSARY, RESULT_CLASSES, Result, glossary_table, load
 from numerics import (
+    atlas,
     attractors,
     compare,
     continue_orbits,
     exact_backbone,
+    fold_curves,
     hysteresis_loop,
+    largest_lyapunov,
     natural_frequency_vs_height,
     series_stability,
     simulate,
@@ -34,12 +37,18 @@ FACTORIES = {
                                    record=("final", "extrema", "history")),
     "SteadyStates": lambda: steady_states([700.0, 1400.0], 0.05 * PAPER.Q_n),
     "Sweep": lambda: sweep([1300.0, 1400.0], 0.05),
-    "Census": lambda: attractors(740.0, 0.15),
+    # Chaos beside period-6 and period-7 orbits: attractors and Lyapunov exponents.
+    "Census": lambda: attractors(1200.0, 1.5, grid={"y_over_y0": (-22.0, 0.0),
+                                                    "v_over_omega0_y0": (0.0, 10.3, 12.5)}),
+    "Atlas": lambda: atlas(740.0, 760.0, 0.15, 0.15, grid=(2, 1), workers=1),
+    "LyapunovExponents": lambda: largest_lyapunov([1000.0, 1200.0], [0.05, 1.5], 2.25e-7, 0.0,
+                                                  periods=64),
     "Backbone": lambda: exact_backbone(points=5),
     "HysteresisLoop": lambda: hysteresis_loop(1600.0, 0.4, periods=20, steps_per_period=64),
     "HeightSweep": lambda: natural_frequency_vs_height(),
     "Comparison": lambda: compare((2,), 0.05, frequency_hz=np.array([700.0, 1400.0])),
     "Continuation": lambda: continue_orbits(0.05, 1350.0, 1450.0),
+    "FoldCurves": lambda: fold_curves(1300.0, 1500.0, 0.03, 0.05, seed_pa_fracs=[0.05]),
     "Response": lambda: frequency_response([800.0, 1420.0], 0.05, order=2),
     "BackboneSeries": lambda: backbone_series(4),
     "SceneRun": lambda: run_scene(parse_scene(

@@ -11,9 +11,11 @@ import argparse
 
 from common import run_command
 
+from ._atlas import add_atlas_parser
 from ._backbone import add_backbone_parser
 from ._compare import add_compare_parser
 from ._continue import add_continue_parser
+from ._folds import add_folds_parser
 from ._info import add_info_parser
 from ._scene import add_scene_parser
 from ._steady import add_attractors_parser, add_sweep_parser
@@ -25,7 +27,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m numerics", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
     for add in (add_info_parser, add_backbone_parser, add_sweep_parser, add_attractors_parser,
-                add_compare_parser, add_scene_parser, add_continue_parser):
+                add_compare_parser, add_scene_parser, add_continue_parser, add_atlas_parser,
+                add_folds_parser):
         add(sub)
     return parser
 

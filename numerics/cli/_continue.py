@@ -35,6 +35,9 @@ def add_continue_parser(sub) -> None:
                         "describes (issue 13, item 3); the branch continued is then the "
                         "series' own model, Eq. 2.6, --plot draws the series over it, and "
                         "--json FILE writes the series' stability to FILE-series.json too")
+    parser.add_argument("--switch", action="store_true",
+                        help="also continue the branch of period 2p born at each period "
+                        "doubling found (branch switching)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     add_model_option(parser)
     parser.set_defaults(run=_continue, parser=parser)
@@ -52,6 +55,10 @@ def _continue(args: argparse.Namespace) -> int:
         result = continue_orbits(args.pa_frac, args.fmin, args.fmax, model=model,
                                  period=args.period, steps_per_period=args.steps,
                                  quiet=args.quiet)
+        if args.switch:
+            from .._branch_switch import with_doubled_branches
+
+            result = with_doubled_branches(result, quiet=args.quiet)
     except ValueError as error:  # e.g. a band out of the model's reach: before any work
         args.parser.error(str(error))
     if args.json:

@@ -60,6 +60,18 @@ def check_band(args: argparse.Namespace) -> None:
                           f"{args.fmax}")
 
 
+def report(result, args: argparse.Namespace, plot: str) -> None:
+    """A command's result: to ``--json`` if asked, printed, and drawn to ``--plot`` by
+    ``numerics.plots.<plot>`` if asked."""
+    if args.json:
+        result.to_json(args.json)
+    print(result)
+    if args.plot:
+        from .. import plots
+
+        getattr(plots, plot)(result, args.plot)
+
+
 def _sweep(args: argparse.Namespace) -> int:
     check_band(args)
     if args.plot:  # Fig. 3 goes beside Fig. 2: that file must be writable too

@@ -40,6 +40,10 @@ figures: $(STAMP)
 	$(PY) -m numerics folds --fmin 300 --fmax 1600 --pa-min 0.02 --pa-max 0.8 \
 	  --seed-pa-frac 0.8 0.65 0.4 0.06 --quiet \
 	  --plot docs/figures/folds.png > /dev/null
+	$(PY) -c "from numerics import continue_orbits; from numerics.plots import plot_continued_app; \
+	from perturb import PAPER_PANEL_FRACTIONS as fracs; \
+	plot_continued_app([continue_orbits(f, 250.0, 1800.0) for f in fracs], \
+	'docs/figures/fig2-continued.png')"
 	$(PY) -c "from numerics import attractors; from numerics.plots import plot_census; \
 	plot_census(attractors(490.0, 0.5), 'docs/figures/census-490hz.png')"
 	for scene in paper_checks/scenes/examples/*.toml; do \

@@ -343,3 +343,15 @@ def test_the_command_line_switches_at_each_period_doubling(tmp_path, doubling_12
     data = json.loads(out.read_text())
     assert [b["period"] for b in data["branches"] if b["frequency_hz"]] == [1, 2]
     assert data["settings"]["switched_at_hz"] == [doubling_125[1].frequency_hz]
+
+
+def test_fig_2_redrawn_from_continued_branches(primary_005, band_005, tmp_path):
+    # Issue 13, item 2: Fig. 2 with stable branches solid and unstable dashed, one panel
+    # per amplitude (make figures draws the ten; two here).
+    from numerics.plots import plot_continued_app
+
+    figure = plot_continued_app([band_005, primary_005], tmp_path / "fig2.png")
+    axes = [ax for ax in figure.axes if ax.get_visible()]
+    assert len(axes) == 2 and (tmp_path / "fig2.png").stat().st_size > 0
+    styles = {line.get_linestyle() for line in axes[0].get_lines()}
+    assert {"-", "--"} <= styles  # the middle branch of the bent peak is unstable

@@ -7,7 +7,7 @@ from matplotlib.figure import Figure
 
 from ._figure import finish, new_figure
 
-__all__ = ["plot_continuation"]
+__all__ = ["plot_continuation", "plot_continued_app"]
 
 _MARKS = {"fold": {"marker": "o", "color": "tab:red", "label": "fold"},
           "period-doubling": {"marker": "s", "color": "tab:blue", "label": "period doubling"}}
@@ -17,14 +17,7 @@ def plot_continuation(continuation, path=None, *, sweep=None) -> Figure:
     """App (log axis) against f_e: stable parts solid, unstable parts dashed, folds and
     period doublings marked; with ``sweep`` (a ``Sweep`` at the same P_a), its points too."""
     figure, ax = new_figure((7.0, 4.2))
-    for branch in continuation.branches:
-        f, app = np.asarray(branch.frequency_hz), np.asarray(branch.app_m) * 1e9
-        for part in _runs(np.asarray(branch.stable, dtype=bool)):
-            stable = bool(branch.stable[part.start])
-            # One point either side joins the parts where the stability changes.
-            span = slice(part.start, min(part.stop + 1, f.size))
-            ax.semilogy(f[span], app[span], color="black", lw=1.0,
-                        ls="-" if stable else "--")
+    _draw_branches(ax, continuation)
     seen = set()
     for mark in continuation.bifurcations:
         style = dict(_MARKS[mark.kind])
@@ -45,6 +38,49 @@ def plot_continuation(continuation, path=None, *, sweep=None) -> Figure:
     ax.grid(True, which="major", alpha=0.3)
     ax.legend(fontsize=7, loc="upper left")
     return finish(figure, path)
+
+
+def plot_continued_app(continuations, path=None, *, sweep=None) -> Figure:
+    """Fig. 2 redrawn from continued branches: one panel per force amplitude (one
+    ``Continuation`` each), App (log axis) against f_e, stable parts solid and unstable
+    dashed; with ``sweep`` (a ``Sweep`` at the same amplitudes), its points beside."""
+    from ._sweep import _f_n0_hz, _resonance_marks, _title
+
+    runs = sorted(continuations, key=lambda c: c.pa_frac)
+    cols = min(len(runs), 2)
+    rows = -(-len(runs) // cols)
+    figure = Figure(figsize=(6.0 * cols, 2.6 * rows), layout="constrained")
+    axes = figure.subplots(rows, cols, squeeze=False, sharex=True).ravel()
+    figure.suptitle("Contact resonances, continued: A_pp against f_e (Fig. 2; stable solid, "
+                    "unstable dashed)")
+    for ax in axes[len(runs):]:
+        ax.set_visible(False)
+    for i, (ax, run) in enumerate(zip(axes, runs)):
+        _draw_branches(ax, run)
+        if sweep is not None:
+            for part in (r for r in sweep.runs if np.isclose(r.pa_frac, run.pa_frac)):
+                ax.semilogy(part.frequency_hz, part.app_m * 1e9, "." if part.direction == "up"
+                            else "+", ms=2, color="tab:orange")
+        band = run.settings["fmin_hz"], run.settings["fmax_hz"]
+        _resonance_marks(ax, _f_n0_hz(run.model), *band)
+        _title(ax, i, run.pa_frac)
+        ax.set_ylabel("A_pp [nm]")
+        ax.grid(True, which="major", alpha=0.3)
+    for ax in axes[len(runs) - min(cols, len(runs)):len(runs)]:
+        ax.set_xlabel("f_e [Hz]")
+    return finish(figure, path)
+
+
+def _draw_branches(ax, continuation) -> None:
+    """Each branch of ``continuation``: stable parts solid, unstable parts dashed."""
+    for branch in continuation.branches:
+        f, app = np.asarray(branch.frequency_hz), np.asarray(branch.app_m) * 1e9
+        for part in _runs(np.asarray(branch.stable, dtype=bool)):
+            stable = bool(branch.stable[part.start])
+            # One point either side joins the parts where the stability changes.
+            span = slice(part.start, min(part.stop + 1, f.size))
+            ax.semilogy(f[span], app[span], color="black", lw=1.0,
+                        ls="-" if stable else "--")
 
 
 def _runs(flags: np.ndarray) -> list[slice]:

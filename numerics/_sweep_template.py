@@ -43,6 +43,7 @@ _SPAN_FLOOR = _st._SPAN_FLOOR
 _REACH_CONTINUATION = _st._REACH_CONTINUATION
 _REACH_POLISH = _st._REACH_POLISH
 _SHARPEN_SLACK = _st._SHARPEN_SLACK
+_UNESTIMATED_SLACK = _st._UNESTIMATED_SLACK
 _VERIFY_PERIODS = _st._VERIFY_PERIODS
 _VERIFY_SHRINK = _st._VERIFY_SHRINK
 _CHUNK = _st._CHUNK
@@ -497,7 +498,7 @@ def _steady_states(steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
         level_steps = np.minimum(steps * 2**level, max_steps)
         if fine and use_newton:  # _steady._sharpen
             coarse = redo[(it[redo, I_STATUS] == _UNDER_RESOLVED)
-                          & (it[redo, I_METHOD] == _M_NEWTON) & np.isfinite(fl[redo, F_ERROR])]
+                          & (it[redo, I_METHOD] == _M_NEWTON)]
             if coarse.size:
                 _solve_by_steps(coarse, level_steps, f_e, p_a, fl[:, F_Y].copy(),
                                 fl[:, F_V].copy(), it[:, I_PERIOD].copy(),
@@ -506,9 +507,12 @@ def _steady_states(steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
                                 fine_fl, fine_it, fine_mult, fine_maxima, fine_minima, True)
                 app = fl[coarse, F_YMAX] - fl[coarse, F_YMIN]
                 moved = np.abs((fine_fl[coarse, F_YMAX] - fine_fl[coarse, F_YMIN]) - app)
+                estimate = fl[coarse, F_ERROR]
+                slack = np.where(np.isfinite(estimate), _SHARPEN_SLACK * estimate,
+                                 _UNESTIMATED_SLACK)
                 found = (((fine_it[coarse, I_STATUS] == _SUCCESS)
                           | (fine_it[coarse, I_STATUS] == _UNDER_RESOLVED))
-                         & (moved <= _SHARPEN_SLACK * fl[coarse, F_ERROR] * app))
+                         & (moved <= slack * app))
                 _merge(coarse[found], fl, it, mult, maxima, minima, fine_fl, fine_it,
                        fine_mult, fine_maxima, fine_minima)
                 for lane in coarse[~found]:

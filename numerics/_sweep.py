@@ -182,7 +182,9 @@ def _sweep_lanes(freq, p_a, model, quiet, start: Orbits | None = None, *,
     """
     check_choice("engine", engine, ENGINES)
     points = _walk(freq, p_a, model, quiet, start, engine, **accuracy)
-    _flag_unresolved_jumps(points, freq.shape[0])
+    for row, seed_row in _unresolved_jumps(points, freq.shape[0]):
+        if not _resweep_finer(points, row, seed_row, freq, p_a, model, engine, accuracy):
+            _flag(points, row, seed_row)
     return points
 
 
@@ -245,15 +247,14 @@ def _sweep_lanes_python(freq, p_a, model, quiet, start: Orbits | None = None,
     return Orbits.stack(found)
 
 
-def _flag_unresolved_jumps(points: Orbits, lanes: int) -> None:
-    """Mark under-resolved each settled point where a lane jumped off a branch that was
-    under-resolved at the point it was continued from.
+def _unresolved_jumps(points: Orbits, lanes: int) -> list[tuple[int, int]]:
+    """(row, seed row) of the first settled point of each lane where it jumped off a branch
+    that was under-resolved at the point it was continued from (its seed).
 
     Such a jump is where the coarse map's branch ends, and an under-resolved step moves
     a fold: at 16 steps a down sweep at 0.15 Q left the bouncing branch at 375 Hz, the
-    1024-step sweep at 352.5 Hz (tests/test_hard_cases.py). The orbit jumped to is
-    right to its own estimate, but where the jump happens is not resolved.
-    ``points`` holds all lanes of a point together, point after point.
+    1024-step sweep at 352.5 Hz (tests/test_hard_cases.py). ``points`` holds all lanes
+    of a point together, point after point (row = point * lanes + lane).
     """
     status = points.status.reshape(-1, lanes)
     app = points.app_m.reshape(-1, lanes)
@@ -267,18 +268,49 @@ def _flag_unresolved_jumps(points: Orbits, lanes: int) -> None:
     seed_app = np.where(has_seed, app[np.maximum(seed, 0), lane], np.nan)
     with np.errstate(divide="ignore", invalid="ignore"):
         change = np.maximum(app / seed_app, seed_app / app)
-    flagged = ((status == Status.SUCCESS) & (seed_status == Status.UNDER_RESOLVED)
-               & (change > JUMP_RATIO))
-    for row in np.flatnonzero(flagged.ravel()):
-        points.status[row] = Status.UNDER_RESOLVED
-        seed_row = seed.ravel()[row] * lanes + row % lanes
-        points.message[row] = unresolved_jump_message(points.app_m[seed_row],
-                                                      int(points.steps_used[seed_row]))
+    jumped = ((status == Status.SUCCESS) & (seed_status == Status.UNDER_RESOLVED)
+              & (change > JUMP_RATIO))
+    first = [(int(np.argmax(jumped[:, k])), k) for k in range(lanes) if jumped[:, k].any()]
+    return [(point * lanes + k, int(seed[point, k]) * lanes + k) for point, k in first]
+
+
+def _resweep_finer(points: Orbits, row: int, seed_row: int, freq, p_a, model, engine,
+                   accuracy: dict) -> bool:
+    """Sweep the lane of ``row`` again from its seed's orbit, from ``row`` to its end, at
+    twice the steps its seed was found with (and its refinements beyond), and put those
+    points in place of its own: where the finer map's branch ends is where it jumps now.
+    False (nothing changed) where those steps would pass ``MAX_STEPS``.
+
+    The lane's later points move with it: the coarse lane went on along the branch it
+    jumped to, which a finer sweep may not be on (0.15 Q down at 16 steps: 372.5-355 Hz
+    were on the 36 nm orbit, 99.6 % below the 1024-step sweep's bouncing orbit).
+    """
+    lanes = freq.shape[0]
+    point, lane = divmod(row, lanes)
+    finer = 2 * int(points.steps_used[seed_row])
+    try:
+        check_steps(finer, accuracy["refinements"])
+    except ValueError:
+        return False
+    again = _sweep_lanes(freq[lane:lane + 1, point:], p_a[lane:lane + 1], model, True,
+                         start=points.take([seed_row]), engine=engine,
+                         **(accuracy | {"steps_per_period": finer}))
+    points.put(np.arange(row, points.status.size, lanes), again)
+    return True
+
+
+def _flag(points: Orbits, row: int, seed_row: int) -> None:
+    """Mark the settled point ``row`` under-resolved: a jump off an under-resolved branch
+    that could not be swept again at finer steps."""
+    points.status[row] = Status.UNDER_RESOLVED
+    points.message[row] = unresolved_jump_message(points.app_m[seed_row],
+                                                  int(points.steps_used[seed_row]))
 
 
 def unresolved_jump_message(seed_app_m: float, steps: int) -> str:
     """Why a settled point where a sweep jumped off an under-resolved branch is flagged."""
     return (f"under-resolved: the sweep jumped here off a branch (App {seed_app_m * 1e9:.4g} "
             f"nm) that was under-resolved at {steps} steps per period where it was "
-            "continued from, so where that branch ends is not resolved (a coarse step "
-            "moves folds); this orbit is right to its error estimate; raise steps_per_period")
+            "continued from, and finer steps would pass the most steps per period, so where "
+            "that branch ends is not resolved (a coarse step moves folds); this orbit is "
+            "right to its error estimate")

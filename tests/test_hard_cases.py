@@ -588,8 +588,9 @@ def test_a_jump_that_cannot_be_swept_finer_is_flagged(monkeypatch):
 
     monkeypatch.setattr(sweeping, "check_steps", refuse)
     run = sweeping._sweep_lanes(np.linspace(1800.0, 250.0, 621)[None, :],
-                                np.array([0.15 * PAPER.Q_n]), ContactModel(), True, steps_per_period=16, tol=1e-6,
-                                app_rtol=5e-3, max_periods=None, method="newton",
+                                np.array([0.15 * PAPER.Q_n]), ContactModel(), True,
+                                steps_per_period=16, tol=1e-6, app_rtol=5e-3,
+                                max_periods=None, method="newton",
                                 refinements=2, keep_orbits=False)
     flagged = [i for i, m in enumerate(run.message) if "jumped here off a branch" in m]
     assert len(flagged) == 1, run.message

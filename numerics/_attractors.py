@@ -273,10 +273,13 @@ def _chaos(found, pa_frac: np.ndarray, model, periods: int | None):
                              found.y_start_m[unsettled], found.v_start_m_s[unsettled],
                              model=model, steps_per_period=found.steps_used[unsettled],
                              periods=periods)
-    for lane, rate, error, motion in zip(unsettled, chaos.exponent_per_period,
-                                         chaos.error_per_period, chaos.motion):
-        found.message[lane] += (f"; largest Lyapunov exponent {rate:.3g} +- {error:.2g} per "
-                                f"period: {motion}")
+    for i, lane in enumerate(unsettled):
+        if chaos.status[i] == Status.FAILED:
+            found.message[lane] += f"; its Lyapunov run failed: {chaos.message[i]}"
+            continue
+        found.message[lane] += (f"; largest Lyapunov exponent {chaos.exponent_per_period[i]:.3g}"
+                                f" +- {chaos.error_per_period[i]:.2g} per period: "
+                                f"{chaos.motion[i]}")
     return unsettled, chaos
 
 

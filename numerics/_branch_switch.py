@@ -63,7 +63,8 @@ def switch_branch(run: Continuation, bifurcation: Bifurcation, *, quiet: bool = 
     -------
     Continuation
         One branch of period 2p, walked from the doubling, in the band and at the steps
-        per period of ``run`` (``settings["switched_at_hz"]`` says where it started);
+        per period of ``run`` (``settings["switched_at_hz"]``, a list of one, says where
+        it started);
         its status and message say why it ended if it ended inside the band.
 
     Examples
@@ -112,15 +113,18 @@ def switch_branch(run: Continuation, bifurcation: Bifurcation, *, quiet: bool = 
     branches, bifurcations = _results(new, model, _join([walk]), run.pa_frac)
     return Continuation(pa_frac=run.pa_frac, branches=branches, bifurcations=bifurcations,
                         model=run.model,
-                        settings=settings | {"switched_at_hz": bifurcation.frequency_hz},
+                        settings=settings | {"switched_at_hz": [bifurcation.frequency_hz]},
                         elapsed_s=time.perf_counter() - start)
 
 
 def with_doubled_branches(run: Continuation, *, quiet: bool = True) -> Continuation:
     """``run`` with the branch born at each of its period doublings appended (and their
-    bifurcations); ``settings["switched_at_hz"]`` lists the doublings switched at."""
+    bifurcations); ``settings["switched_at_hz"]`` lists the doublings switched at (not
+    those of an orbit whose doubled period is beyond the longest continued: they stay in
+    ``run.bifurcations``, unswitched, rather than lose the result after the work)."""
     start = time.perf_counter()
-    doublings = [b for b in run.bifurcations if b.kind == "period-doubling"]
+    doublings = [b for b in run.bifurcations if b.kind == "period-doubling"
+                 and 2 * _branch_through(run, b).period in PERIODS_TRIED]
     switched = [switch_branch(run, b, quiet=quiet) for b in doublings]
     return Continuation(
         pa_frac=run.pa_frac, model=run.model,

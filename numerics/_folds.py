@@ -54,28 +54,36 @@ from scipy.optimize import brentq
 from common import Result, Status, check_int, check_positive, progress, result
 from perturb import ContactModel
 
-from ._continuation import LOCATE_TOL, Bifurcation, continue_orbits
-from ._continuation_map import PeriodMap, Point
+from ._continuation import (
+    _DS_MIN,
+    _DS_START,
+    _EASY_ITERATIONS,
+    _GROW,
+    _SHRINK,
+    LOCATE_TOL,
+    Bifurcation,
+    continue_orbits,
+)
+from ._continuation import DEFAULTS as _CONTINUATION_DEFAULTS
+from ._continuation_map import _DF_REL, PeriodMap, Point
 from ._lanes import Lanes
 from ._simulate import check_model
 
 __all__ = ["Cusp", "FoldCurve", "FoldCurves", "fold_curves", "DEFAULTS"]
 
-DEFAULTS = {"steps_per_period": "auto", "ds_max": 0.02, "max_angle": 0.1, "max_points": 500}
-_DS_START = 1e-3  # the first step, in w
-_DS_MIN = 1e-9  # below it a curve ends
-_GROW, _SHRINK = 1.5, 0.5
-_EASY_ITERATIONS = 3  # Newton converging within this many iterations grows the step
+#: The step control of ``continue_orbits`` (its first and least step, growth and shrink,
+#: Newton's easy count), over a curve of at most 500 points.
+DEFAULTS = _CONTINUATION_DEFAULTS | {"max_points": 500}
 #: A seed fold within this distance (in w) of a curve already traced lies on it: the
 #: chords of a curve (ds <= ds_max = 0.02, curvature some 10 in w) stray by ~5e-4 from it,
 #: while the two folds of one peak at one P_a lie 0.3 or more apart (App differs).
 _ON_CURVE = 2e-3
 #: Seeds are searched at these shares of [pa_min, pa_max] when none are given.
 _SEED_SHARES = (1.0, 0.5)
-#: The relative step of the central differences in w (R_f, R_a and the gradient of g).
-#: (1e-5, as d/df in ``_continuation_map``: truncation 1e-10, round-off 1e-9, far below
-#: Newton's tolerance; 1e-3 was tried and reached less far into loss of contact).
-_H_OUTER = 1e-5
+#: The relative step of the central differences in w (R_f, R_a and the gradient of g):
+#: d/df's in ``_continuation_map`` (truncation 1e-10, round-off 1e-9, far below Newton's
+#: tolerance; 1e-3 was tried and reached less far into loss of contact).
+_H_OUTER = _DF_REL
 #: A least a along a curve is a cusp only if the curve rises by this much (in P_a / Q) on
 #: both sides of it: at a corner of the map in loss of contact, t_a was seen to turn over
 #: 1e-4 Q (0.0991 Q, 755 Hz) with no second fold behind it.

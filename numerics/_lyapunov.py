@@ -44,6 +44,15 @@ DEFAULTS = {"steps_per_period": "auto", "periods": 2048, "discard_periods": 64, 
 #: The tangent's first direction, an angle in the plane (y, v / v_scale): generic, so
 #: that it is along no eigenvector of a simple orbit's monodromy matrix.
 _INITIAL_ANGLE = 1.0
+#: The longest run (periods measured plus discarded): the steady-state search's own cap
+#: on a transient, _steady._CAP_PERIODS, is the same.
+MAX_PERIODS = 120_000
+#: The most lanes of one call, refused before the lanes' arrays are made ...
+MAX_LANES = 1_000_000
+#: ... and the most RK4 lane-steps (lanes x periods x steps per period) of one call: at
+#: some 4 ns a lane-step with the tangent (tests/benchmarks/bench_lyapunov.py: 2.1-3.5 us
+#: a lane-period at 512 steps) a minute or two.
+MAX_LANE_STEPS = 2 * 10**10
 #: A verdict needs the exponent this many error estimates away from zero.
 VERDICT_SIGMAS = 3.0
 VERDICTS = ("chaotic", "periodic or transient", "undecided")
@@ -227,10 +236,21 @@ def largest_lyapunov(
     """
     model = check_model(model)
     periods, discard, blocks = _check_run(periods, discard_periods, blocks)
+    lanes = np.broadcast_shapes(*(np.shape(a) for a in (frequency_hz, pa_frac, y_init_m,
+                                                        v_init_m_s)))
+    if int(np.prod(lanes)) > MAX_LANES:
+        raise ValueError(f"{int(np.prod(lanes))} lanes are more than the limit of {MAX_LANES} "
+                         "of one call (a bound on memory and work): split them.")
     f_e, pa, y, v = initial_lanes(frequency_hz, lane_array("pa_frac", pa_frac), y_init_m,
                                   v_init_m_s, model)
     numbers = eq26_numbers(model.parameters)
     steps = _lane_steps(steps_per_period, f_e, numbers.fastest_rate_per_s)
+    work = int(steps.sum()) * (periods + discard)
+    if work > MAX_LANE_STEPS:
+        raise ValueError(f"the lanes' steps per period x (`periods` + `discard_periods`) "
+                         f"ask for {work:.3g} RK4 lane-steps, more than the limit of "
+                         f"{MAX_LANE_STEPS:.0e} of one call (a minute or two): take fewer "
+                         "periods or lanes.")
     start = time.perf_counter()
     n = f_e.size
     growth = np.full((n, blocks), np.nan)
@@ -330,8 +350,12 @@ def _check_run(periods, discard_periods, blocks) -> tuple[int, int, int]:
     if blocks % 2:
         raise ValueError(f"`blocks` must be even (the error compares the two halves), got "
                          f"{blocks!r}.")
-    periods = check_int("periods", periods, minimum=blocks)
+    periods = check_int("periods", periods, minimum=blocks, maximum=MAX_PERIODS)
     if periods % blocks:
         raise ValueError(f"`periods` must be a multiple of `blocks` ({blocks}), got "
                          f"{periods!r}.")
-    return periods, check_int("discard_periods", discard_periods, minimum=0), blocks
+    discard = check_int("discard_periods", discard_periods, minimum=0, maximum=MAX_PERIODS)
+    if periods + discard > MAX_PERIODS:
+        raise ValueError(f"`periods` + `discard_periods` must be at most {MAX_PERIODS} (a "
+                         f"bound on the work), got {periods} + {discard}.")
+    return periods, discard, blocks

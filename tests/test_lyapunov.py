@@ -261,3 +261,18 @@ def test_bad_input_is_named(changes, match):
                  "v_init_m_s": 0.0, "periods": 64} | changes
     with pytest.raises(ValueError, match=match):
         largest_lyapunov(**arguments)
+
+
+def test_sizes_beyond_the_limits_are_refused_before_any_work():
+    # Review: periods had no upper bound and lanes no limit (10^12 periods, or 10^8 lanes,
+    # ran for minutes); both are refused at once, naming the argument and the limit.
+    import time
+
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match="`periods` must be an integer <= 120000"):
+        largest_lyapunov(1000.0, 0.1, 2e-7, 0.0, periods=10**12)
+    with pytest.raises(ValueError, match="more than the limit of 1000000"):
+        largest_lyapunov(np.ones(10**7), 0.1, 2e-7, 0.0, periods=8, blocks=4)
+    with pytest.raises(ValueError, match="RK4 lane-steps, more than the limit"):
+        largest_lyapunov(np.full(10**5, 1000.0), 0.1, 2e-7, 0.0, periods=100_000, blocks=4)
+    assert time.perf_counter() - start < 5.0

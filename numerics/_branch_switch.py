@@ -110,7 +110,7 @@ def switch_branch(run: Continuation, bifurcation: Bifurcation, *, quiet: bool = 
                      settings["ds_max"], settings["max_angle"], settings["max_points"], bar)
         walk.run(first, away=phi)
     bar.close()
-    branches, bifurcations = _results(new, model, _join([walk]), run.pa_frac)
+    branches, bifurcations = _results(new, model, _join([walk]))
     return Continuation(pa_frac=run.pa_frac, branches=branches, bifurcations=bifurcations,
                         model=run.model,
                         settings=settings | {"switched_at_hz": [bifurcation.frequency_hz]},

@@ -66,7 +66,10 @@ class ContinuedBranch(Result):
     Attributes
     ----------
     frequency_hz : ndarray
-        f_e of each point [Hz] (not monotonic: it turns back at each fold).
+        f_e of each point [Hz] (not monotonic: it turns back at each fold; constant along
+        a branch continued in P_a).
+    pa_frac : ndarray
+        P_a / Q of each point (constant along a branch continued in f_e).
     app_m : ndarray
         App = max y - min y over one orbit period (p excitation periods) [m].
     stable : ndarray of bool
@@ -92,6 +95,7 @@ class ContinuedBranch(Result):
     v_start_m_s: np.ndarray
     status: int = int(Status.SUCCESS)
     message: str = ""
+    pa_frac: np.ndarray | None = None
 
     @classmethod
     def from_dict(cls, data: dict) -> ContinuedBranch:
@@ -242,20 +246,30 @@ def continue_orbits(
     start = time.perf_counter()
     p_a = pa_frac * model.parameters.Q_n
     shoot = PeriodMap(model, p_a, steps, period)
-    bar = _Coverage(fmin_hz, fmax_hz, quiet)
-    walks = [_walk_from(shoot, model, fmin_hz, fmax_hz, +1, bar, ds_max, max_angle, max_points)]
-    if walks[0].status != Status.SUCCESS:
-        # The branch ended inside the band (at a corner of the map that Newton cannot
-        # pass, or at an isola's edge): walk it from the band's other end, down in f.
-        walks.append(_walk_from(shoot, model, fmin_hz, fmax_hz, -1, bar, ds_max, max_angle,
-                                max_points))
-    bar.close()
-    branches, bifurcations = _results(shoot, model, _join(walks), pa_frac)
+    branches, bifurcations = walk_band(shoot, model, fmin_hz, fmax_hz, ds_max, max_angle,
+                                       max_points, quiet)
     settings = {"fmin_hz": fmin_hz, "fmax_hz": fmax_hz, "steps_per_period": steps,
                 "ds_max": ds_max, "max_angle": max_angle, "max_points": max_points}
     return Continuation(pa_frac=pa_frac, branches=branches, bifurcations=bifurcations,
                         model=model.as_dict(), settings=settings,
                         elapsed_s=time.perf_counter() - start)
+
+
+def walk_band(shoot: PeriodMap, model, low: float, high: float, ds_max, max_angle,
+              max_points, quiet) -> tuple[list[ContinuedBranch], list[Bifurcation]]:
+    """The branch through the stable orbit reached from rest at the band's lower end
+    (``low``, ``high``: the parameter in its physical unit), walked up; if it ends inside
+    the band, also the one from the upper end, walked down, joined to it where they meet.
+    """
+    bar = _Coverage(low, high, quiet)
+    walks = [_walk_from(shoot, model, low, high, +1, bar, ds_max, max_angle, max_points)]
+    if walks[0].status != Status.SUCCESS:
+        # The branch ended inside the band (at a corner of the map that Newton cannot
+        # pass, or at an isola's edge): walk it from the band's other end, down.
+        walks.append(_walk_from(shoot, model, low, high, -1, bar, ds_max, max_angle,
+                                max_points))
+    bar.close()
+    return _results(shoot, model, _join(walks))
 
 
 def _walk_from(shoot, model, fmin_hz, fmax_hz, direction, bar, ds_max, max_angle,
@@ -264,10 +278,10 @@ def _walk_from(shoot, model, fmin_hz, fmax_hz, direction, bar, ds_max, max_angle
     (``direction`` +1, walked up in f) or upper end (-1, walked down)."""
     f_start = fmin_hz if direction > 0 else fmax_hz
     walk = _Walk(shoot, fmin_hz, fmax_hz, direction, ds_max, max_angle, max_points, bar)
-    first = _first_point(shoot, model, f_start, shoot.p_a[0], shoot.steps)
+    first = _first_point(shoot, model, f_start)
     if first is None:
         walk.end(Status.FAILED, f"no stable {shoot.period}-periodic orbit reached from rest "
-                 f"at {f_start:g} Hz to start from")
+                 f"at {shoot.label(shoot.scaled(0.0, 0.0, f_start))} to start from")
     else:
         walk.run(first)
     return walk
@@ -294,14 +308,15 @@ class _Coverage:
         self.bar.close()
 
 
-def _first_point(shoot: PeriodMap, model, f_hz, p_a, steps) -> Point | None:
-    """The stable orbit reached from rest at ``f_hz`` (time marching, then Newton at our N),
-    polished at fixed f; None if none of period p is reached."""
-    state = steady_states(f_hz, p_a, model=model, steps_per_period=steps, app_rtol=None,
+def _first_point(shoot: PeriodMap, model, value: float) -> Point | None:
+    """The stable orbit reached from rest where the parameter is ``value`` (time marching,
+    then Newton at our N), polished at that value; None if none of period p is reached."""
+    (f_hz,), (p_a,) = shoot.drives([value])
+    state = steady_states(f_hz, p_a, model=model, steps_per_period=shoot.steps, app_rtol=None,
                           refinements=0)
     if not (state.settled[0] and state.period[0] == shoot.period):
         return None
-    z = shoot.scaled(state.y_start_m[0], state.v_start_m_s[0], f_hz)
+    z = shoot.scaled(state.y_start_m[0], state.v_start_m_s[0], value)
     return shoot.correct(z, np.array([0.0, 0.0, 1.0]), z[2])
 
 
@@ -339,9 +354,8 @@ class _Walk:
                 break
             step = self._step(ds)
             if step is None:
-                f = self.shoot.physical(self.points[-1].z)[2]
-                self.end(Status.FAILED, f"step below {_DS_MIN:g} at f_e = {f:.6g} Hz: Newton "
-                         "does not converge there")
+                self.end(Status.FAILED, f"step below {_DS_MIN:g} at "
+                         f"{self.shoot.label(self.points[-1].z)}: Newton does not converge there")
                 break
             point, t, ds = step
             self._bifurcations(point, t)
@@ -499,33 +513,35 @@ def _significant_folds(points: list[Point], marks: list[tuple[int, str]]):
     return sorted(set(kept))
 
 
-def _results(shoot: PeriodMap, model, branches, pa_frac: float):
+def _results(shoot: PeriodMap, model, branches):
     """The branches' columns (App of all points in one batched recording) and the
     bifurcations, in the order of the branches."""
     z = np.array([p.z for points, *_ in branches for p in points]).reshape(-1, 3)
-    y, v, f = (z * shoot.scale).T
-    app = _app(model, shoot, y, v, f)
+    y, v, parameter = (z * shoot.scale).T
+    f, p_a = shoot.drives(parameter)
+    pa_frac = p_a / model.parameters.Q_n
+    app = _app(model, shoot, y, v, f, p_a)
     out, marks, first = [], [], 0
     for points, branch_marks, status, message in branches:
         branch_marks = _significant_folds(points, branch_marks)
         part = slice(first, first + len(points))
         multipliers = np.array([p.multipliers for p in points]).reshape(-1, 2)
         stable = np.abs(multipliers).max(axis=1, initial=0.0) < 1.0
-        out.append(ContinuedBranch(frequency_hz=f[part], app_m=app[part], stable=stable,
-                                   period=shoot.period, multipliers=multipliers,
+        out.append(ContinuedBranch(frequency_hz=f[part], pa_frac=pa_frac[part], app_m=app[part],
+                                   stable=stable, period=shoot.period, multipliers=multipliers,
                                    y_start_m=y[part], v_start_m_s=v[part], status=int(status),
                                    message=message))
         marks += [(first + i, kind) for i, kind in branch_marks]
         first += len(points)
     bifurcations = [Bifurcation(kind=kind, frequency_hz=float(f[i]), app_m=float(app[i]),
-                                pa_frac=pa_frac) for i, kind in marks]
+                                pa_frac=float(pa_frac[i])) for i, kind in marks]
     return out, bifurcations
 
 
-def _app(model, shoot: PeriodMap, y, v, f) -> np.ndarray:
+def _app(model, shoot: PeriodMap, y, v, f, p_a) -> np.ndarray:
     """App over one orbit period from each point's start, all points in one kernel call."""
     if not f.size:
         return np.empty(0)
-    lanes = Lanes(model, f, np.full(f.size, shoot.p_a[0]), shoot.steps)
+    lanes = Lanes(model, f, p_a, shoot.steps)
     rec = lanes.record(y.copy(), v.copy(), shoot.period, np.full(f.size, -1, dtype=np.int64))
     return rec.ymax - rec.ymin

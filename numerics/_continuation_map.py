@@ -26,7 +26,7 @@ from perturb import ContactModel, eq26_numbers
 from ._codegen import compiled_kernels
 from ._lanes import drive_table
 
-__all__ = ["PeriodMap", "Point"]
+__all__ = ["ForceMap", "PeriodMap", "Point"]
 
 #: Relative step of the central difference in f: its truncation error (h^2, 1e-10) and
 #: its round-off (1e-14 of y over h, 1e-9) are both far below Newton's tolerance.
@@ -98,21 +98,34 @@ class PeriodMap:
         self.evaluations = 0
 
     def physical(self, z: np.ndarray) -> tuple[float, float, float]:
-        """(y [m], v [m/s], f_e [Hz]) of a scaled point."""
+        """(y [m], v [m/s], the parameter: f_e [Hz]) of a scaled point."""
         y, v, f = z * self.scale
         return float(y), float(v), float(f)
 
     def scaled(self, y: float, v: float, f: float) -> np.ndarray:
         return np.array([y, v, f]) / self.scale
 
+    def drives(self, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(f_e [Hz], P_a [N]) at each value of the parameter (in its physical unit)."""
+        parameter = np.asarray(parameter, dtype=float)
+        return parameter, np.full(parameter.shape, self.p_a[0])
+
+    def label(self, z: np.ndarray) -> str:
+        """The parameter's value at z, for messages."""
+        return f"f_e = {z[2] * self.scale[2]:.6g} Hz"
+
+    def difference_step(self, value: float) -> float:
+        """The step of the central difference in the parameter at ``value``."""
+        return _DF_REL * value
+
     def residual(self, z: np.ndarray):
         """R (2,), its Jacobian dR/dz (2, 3) and the monodromy matrix (2, 2) at z."""
-        y, v, f = self.physical(z)
-        df = _DF_REL * f
-        freq = np.array([f, f + df, f - df])
+        y, v, value = self.physical(z)
+        h = self.difference_step(value)
+        freq, p_a = self.drives(np.array([value, value + h, value - h]))
         ys, vs = np.full(3, y), np.full(3, v)
         monodromy = np.empty((3, 2, 2))
-        self.kernels.shoot_periods(ys, vs, 1.0 / (self.steps * freq), self.p_a, self.drive,
+        self.kernels.shoot_periods(ys, vs, 1.0 / (self.steps * freq), p_a, self.drive,
                                    self.period, monodromy)
         self.evaluations += 1
         d = self.scale[:2]
@@ -120,8 +133,9 @@ class PeriodMap:
         jacobian = np.empty((2, 3))
         # D^-1 (M - I) D: the monodromy in the scaled state.
         jacobian[:, :2] = (monodromy[0] - np.eye(2)) * d[None, :] / d[:, None]
-        jacobian[:, 2] = np.array([ys[1] - ys[2], vs[1] - vs[2]]) / (2 * df) * self.scale[2] / d
+        jacobian[:, 2] = np.array([ys[1] - ys[2], vs[1] - vs[2]]) / (2 * h) * self.scale[2] / d
         return r, jacobian, monodromy[0]
+
 
     def correct(self, z: np.ndarray, row: np.ndarray, target: float) -> Point | None:
         """Newton on R(z) = 0 with the one extra equation row . z = target (the
@@ -157,3 +171,23 @@ class PeriodMap:
                     step = 0.5 * step
                 z, full, jacobian, monodromy = trial, f_trial, j_trial, m_trial
         return None
+
+
+class ForceMap(PeriodMap):
+    """Phi_p at one f_e and N steps per period, with P_a the parameter: the scaled
+    unknowns are z = (y / y0, v / (omega0 y0), P_a / Q)."""
+
+    def __init__(self, model: ContactModel, f_hz: float, steps: int, period: int) -> None:
+        super().__init__(model, 0.0, steps, period)
+        self.f_hz = f_hz
+        self.scale[2] = model.parameters.Q_n
+
+    def drives(self, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        parameter = np.asarray(parameter, dtype=float)
+        return np.full(parameter.shape, self.f_hz), parameter
+
+    def label(self, z: np.ndarray) -> str:
+        return f"P_a = {z[2]:.6g} Q"
+
+    def difference_step(self, value: float) -> float:
+        return _DF_REL * max(abs(value), self.scale[2])  # relative to Q: P_a may be near 0

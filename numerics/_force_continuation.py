@@ -1,0 +1,148 @@
+"""Periodic orbits continued in the force amplitude P_a at one f_e (issue 13, item 2).
+
+A sweep of f_e at fixed P_a shows where a peak bends (Fig. 2); at a fixed f_e near
+a bent peak the response to a growing force folds too: App jumps up as P_a rises
+past one fold and down as it falls past the other. The same pseudo-arclength walk
+as ``continue_orbits`` (``_continuation``) follows the orbit, stable or not, with
+P_a in the place of f_e: the unknowns are z = (y / y0, v / (omega0 y0), P_a / Q)
+(``_continuation_map.ForceMap``), dR/dP_a a central difference, and folds and
+period doublings are located the same way, in P_a.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from common import Result, check_int, check_positive, result
+from perturb import ContactModel, eq26_numbers
+
+from ._continuation import (
+    _AUTO_MIN_STEPS,
+    _BAND_OF_F_N0,
+    DEFAULTS,
+    KINDS,
+    PERIODS_TRIED,
+    Bifurcation,
+    ContinuedBranch,
+    walk_band,
+)
+from ._continuation_map import ForceMap
+from ._simulate import check_model
+from ._steady import lane_steps
+
+__all__ = ["ForceContinuation", "continue_in_force"]
+
+
+@result
+class ForceContinuation(Result):
+    """Branches of periodic orbits continued in P_a at one f_e, and their bifurcations.
+
+    Attributes
+    ----------
+    frequency_hz : float
+        f_e [Hz].
+    branches : list of ContinuedBranch
+        Each point's P_a / Q in ``pa_frac`` (``frequency_hz`` is constant).
+    bifurcations : list of Bifurcation
+        Folds and period doublings, located in P_a (``pa_frac``).
+    model, settings : dict
+        The model; pa_min, pa_max, steps_per_period (the N used), ds_max, max_angle,
+        max_points.
+    elapsed_s : float
+    """
+
+    frequency_hz: float
+    branches: list[ContinuedBranch]
+    bifurcations: list[Bifurcation]
+    model: dict
+    settings: dict
+    elapsed_s: float = 0.0
+
+    def summary(self) -> str:
+        counts = {k: sum(b.kind == k for b in self.bifurcations) for k in KINDS}
+        return (f"ForceContinuation: f_e = {self.frequency_hz:g} Hz, {len(self.branches)} "
+                f"branch(es), {sum(b.frequency_hz.size for b in self.branches)} points, "
+                f"{counts['fold']} folds, {counts['period-doubling']} period doublings, "
+                f"{self.elapsed_s:.3g} s")
+
+    def table(self) -> str:
+        lines = [f"  {b.summary()}" for b in self.branches]
+        lines += [f"  {b.kind:<16} P_a = {b.pa_frac:.6f} Q  App {b.app_m * 1e9:>9.4f} nm"
+                  for b in self.bifurcations]
+        return "\n".join(lines)
+
+
+def continue_in_force(
+    frequency_hz: float,
+    pa_min: float,
+    pa_max: float,
+    *,
+    model: ContactModel | None = None,
+    period: int = 1,
+    steps_per_period: int | str = DEFAULTS["steps_per_period"],
+    ds_max: float = DEFAULTS["ds_max"],
+    max_angle: float = DEFAULTS["max_angle"],
+    max_points: int = DEFAULTS["max_points"],
+    quiet: bool = True,
+) -> ForceContinuation:
+    """Continue the p-periodic orbit reached at ``pa_min`` from rest up to ``pa_max``, at
+    one f_e: the force-response curve, through its folds.
+
+    Parameters
+    ----------
+    frequency_hz : float
+        f_e [Hz], within 1e-4 to 100 f_n0 (as ``continue_orbits``' band).
+    pa_min, pa_max : float
+        The range of P_a / Q (pa_min >= 0). The branch starts at the stable orbit that
+        time marching from rest reaches at ``pa_min`` and, if it ends inside the range,
+        a second walk starts from the one reached at ``pa_max``, down in P_a.
+    model, period, steps_per_period, ds_max, max_angle, max_points, quiet
+        As in ``continue_orbits`` ("auto" steps: ``steady_states``' choice at f_e, but at
+        least 512).
+
+    Returns
+    -------
+    ForceContinuation
+
+    Examples
+    --------
+    At 1400 Hz, inside the bistable band of the primary peak at 0.05 Q, App jumps up
+    and down with the force, between two folds:
+
+    >>> run = continue_in_force(1400.0, 0.02, 0.08)
+    >>> [(b.kind, round(b.pa_frac, 4)) for b in run.bifurcations]
+    [('fold', 0.0695), ('fold', 0.0456)]
+    """
+    model = check_model(model)
+    f_e = check_positive("frequency_hz", frequency_hz)
+    pa_min = check_positive("pa_min", pa_min, allow_zero=True)
+    pa_max = check_positive("pa_max", pa_max)
+    if not pa_min < pa_max:
+        raise ValueError(f"`pa_max` must be above `pa_min`, got {pa_min!r} and {pa_max!r}.")
+    if period not in PERIODS_TRIED:
+        raise ValueError(f"`period` must be one of {PERIODS_TRIED}, got {period!r}.")
+    ds_max = check_positive("ds_max", ds_max)
+    max_angle = check_positive("max_angle", max_angle)
+    max_points = check_int("max_points", max_points, minimum=2)
+    numbers = eq26_numbers(model.parameters)
+    low, high = _BAND_OF_F_N0[0] * numbers.f_n0_hz, _BAND_OF_F_N0[1] * numbers.f_n0_hz
+    if not low <= f_e <= high:
+        raise ValueError(f"`frequency_hz` must lie within {low:.3g}-{high:.3g} Hz "
+                         f"({_BAND_OF_F_N0[0]:g} to {_BAND_OF_F_N0[1]:g} f_n0), got {f_e!r}.")
+    if steps_per_period == "auto":
+        steps = max(int(lane_steps("auto", np.array([f_e]), numbers.fastest_rate_per_s)[0]),
+                    _AUTO_MIN_STEPS)
+    else:
+        steps = check_int("steps_per_period", steps_per_period, minimum=4)
+    start = time.perf_counter()
+    shoot = ForceMap(model, f_e, steps, period)
+    q = model.parameters.Q_n
+    branches, bifurcations = walk_band(shoot, model, pa_min * q, pa_max * q, ds_max,
+                                       max_angle, max_points, quiet)
+    settings = {"pa_min": pa_min, "pa_max": pa_max, "steps_per_period": steps,
+                "ds_max": ds_max, "max_angle": max_angle, "max_points": max_points}
+    return ForceContinuation(frequency_hz=f_e, branches=branches, bifurcations=bifurcations,
+                             model=model.as_dict(), settings=settings,
+                             elapsed_s=time.perf_counter() - start)

@@ -63,6 +63,10 @@ _SHARPEN_SLACK = 2.0
 #: job such orbits moved by at most 1.8e-3 from 128 to 256 steps (94 of them), where a
 #: jump to another branch moves App by tens of per cent or more.
 _UNESTIMATED_SLACK = 1e-2
+#: A p-periodic orbit is taken only where the lag-q stroboscopic differences of every
+#: divisor q of p exceed this many tol (_repeating_period): when lag p first repeats
+#: within tol on the way to a q-periodic orbit, lag q is about |1 - mu| tol <= 2 tol.
+_DISTINCT_LAG = 10.0
 _VERIFY_PERIODS = 16  # march that confirms a continued orbit attracts the previous state
 _VERIFY_SHRINK = 0.5  # by how much the distance to that orbit must shrink meanwhile
 _EXTREMA_PER_PERIOD = 64  # room for local extrema per period of the response
@@ -253,6 +257,15 @@ class _Batch(Lanes):
             rho = np.maximum(d[..., 1] / d[..., 0], d[..., 2] / d[..., 1])
             left = d.max(axis=2) / (1 - rho)
         reached = (d.max(axis=2) < self.tol * 1e-3) | ((rho < 1) & (left < self.tol))
+        # ... but only where the lag-q differences of every divisor q of p are clearly
+        # not zero: else the lane may be converging to a q-periodic orbit, which repeats
+        # after p periods too (near a period doubling a multiplier near -1 makes lag 2
+        # repeat within tol while lag 1 is still at about 2 tol: a period-1 orbit was
+        # passed as period 2). It marches on until q is reached, or its cap.
+        distinct = d.min(axis=2) >= _DISTINCT_LAG * self.tol
+        for i, p in enumerate(periods):
+            divides = (periods < p) & (p % periods == 0)
+            reached[:, i] &= distinct[:, divides].all(axis=1)
         # The least p reached (argmax finds the first True); 0 where none is.
         return np.where(reached.any(axis=1), periods[np.argmax(reached, axis=1)], 0)
 

@@ -44,6 +44,7 @@ _REACH_CONTINUATION = _st._REACH_CONTINUATION
 _REACH_POLISH = _st._REACH_POLISH
 _SHARPEN_SLACK = _st._SHARPEN_SLACK
 _UNESTIMATED_SLACK = _st._UNESTIMATED_SLACK
+_DISTINCT_LAG = _st._DISTINCT_LAG
 _VERIFY_PERIODS = _st._VERIFY_PERIODS
 _VERIFY_SHRINK = _st._VERIFY_SHRINK
 _CHUNK = _st._CHUNK
@@ -208,6 +209,7 @@ def _repeating_period(strobe_y, strobe_v, span, omega, tol, length):
     """_Batch._repeating_period of one lane, from the last _KEEP_LAST samples of a chunk."""
     last = strobe_y.shape[0] - 1
     scale = _scale(span, length)
+    smallest = np.empty(_LARGEST_PERIOD + 1)  # the least lag-p difference of the samples
     for p in range(1, _LARGEST_PERIOD + 1):
         d = np.empty(3)
         for j in range(3):
@@ -215,10 +217,16 @@ def _repeating_period(strobe_y, strobe_v, span, omega, tol, length):
             d[j] = _distance(strobe_y[now] - strobe_y[now - p], strobe_v[now] - strobe_v[now - p],
                              omega, scale)
         rho = _nanmax(d[1] / d[0], d[2] / d[1])
+        smallest[p] = -_nanmax(_nanmax(-d[0], -d[1]), -d[2])
         biggest = _nanmax(_nanmax(d[0], d[1]), d[2])
         left = biggest / (1 - rho)
         if biggest < tol * 1e-3 or (rho < 1 and left < tol):
-            return p
+            distinct = True  # every divisor's lag differences clearly not zero
+            for q in range(1, p):
+                if p % q == 0 and not smallest[q] >= _DISTINCT_LAG * tol:
+                    distinct = False
+            if distinct:
+                return p
     return 0
 
 

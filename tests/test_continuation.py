@@ -114,19 +114,25 @@ def test_the_middle_branch_is_unstable_and_an_orbit_on_it_really_leaves(primary_
     f, app = branch.frequency_hz[i], branch.app_m[i]
     steps = primary_005.settings["steps_per_period"]
     p_a = 0.05 * PAPER.Q_n
+    # Unperturbed, it stays while its start's error (Newton's, some 1e-10 of y0) grows
+    # by less than 1e5: ln(1e5) / ln|mu| periods. (Over 3000 periods, round-off alone
+    # took it away or not, as the last bits of the branch's first point fell.)
+    growth = np.abs(branch.multipliers[i]).max()
+    calm = int(np.log(1e5) / np.log(growth))
+    stays = simulate(f, p_a, periods=calm, steps_per_period=steps, y_init_m=branch.y_start_m[i],
+                     v_init_m_s=branch.v_start_m_s[i]).app_m[0]
+    assert abs(stays - app) / app < 1e-3, "the unperturbed orbit must stay (a fixed point)"
     # Slightly perturbed (1e-6 of App), 3000 periods (some 30 e-foldings of the
     # measured largest multiplier 1.01-1.1): it goes to one of the stable orbits.
     kick = 1e-6 * app
-    runs = simulate([f, f, f], p_a, periods=3000, steps_per_period=steps,
-                    y_init_m=branch.y_start_m[i] + np.array([0.0, kick, -kick]),
+    runs = simulate([f, f], p_a, periods=3000, steps_per_period=steps,
+                    y_init_m=branch.y_start_m[i] + np.array([kick, -kick]),
                     v_init_m_s=branch.v_start_m_s[i])
-    stays = runs.app_m[0]
-    assert abs(stays - app) / app < 1e-3, "the unperturbed orbit must stay (a fixed point)"
     stable_apps = _app_at(branch, f, stable_only=True)
-    for left in runs.app_m[1:]:
+    for left in runs.app_m:
         assert abs(left - app) / app > 0.1, (left, app)
         assert np.min(np.abs(stable_apps - left)) / left < 5e-3, (left, stable_apps)
-    assert {bool(a > app) for a in runs.app_m[1:]} == {True, False}
+    assert {bool(a > app) for a in runs.app_m} == {True, False}
     assert apps.size
 
 
@@ -298,11 +304,13 @@ def test_a_period_doubling_is_where_time_marching_first_shows_period_2(doubling_
     periods = np.array(periods)
     last_single, first_double = np.flatnonzero(periods == 1)[-1], np.flatnonzero(periods == 2)[0]
     assert (periods[:last_single + 1] == 1).all() and (periods[first_double:] == 2).all()
-    # In between, the orbits converge more slowly than the settling cap (a multiplier
-    # within 0.01 of 1 on either side): measured 1557.0-1556.0 Hz, not settled, as said.
+    # In between, the orbits converge more slowly than the settling cap (multipliers
+    # within 0.01 of -1 above the doubling, of +1 below): measured 1557.5-1556.0 Hz, not
+    # settled, as said. (1557.5 Hz settled as period 1 before the march took a p-periodic
+    # orbit only where its divisors' lag differences are clearly not zero.)
     assert (periods[last_single + 1:first_double] == 0).all()
     above, below = grid[last_single], grid[first_double]
-    assert above - below <= 2.0  # measured: 1557.5 and 1555.5 Hz
+    assert above - below <= 2.5  # measured: 1558.0 and 1555.5 Hz
     # Measured: 1557.16 Hz at 512 steps. It is the doubling of the map at these steps: at
     # 1024 steps it lies at 1556.62 Hz (review).
     assert below < doubling.frequency_hz < above, (below, doubling.frequency_hz, above)

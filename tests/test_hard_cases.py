@@ -596,3 +596,25 @@ def test_a_jump_that_cannot_be_swept_finer_is_flagged(monkeypatch):
     assert len(flagged) == 1, run.message
     assert run.status[flagged[0]] == Status.UNDER_RESOLVED
     assert run.frequency_hz[flagged[0]] == 375.0  # measured
+
+
+def test_a_march_near_a_period_doubling_gives_the_period_1_orbit():
+    # Regression: near a period doubling (1.25 Q, above 1557.16 Hz) the period-1 orbit's
+    # multipliers lie near -1 (a complex pair of modulus 0.93 at 1568.8 Hz), so the lag-2
+    # stroboscopic differences repeat within tol while lag 1 is still about 2 tol: time
+    # marching alone reported period 2 on the period-1 orbit. Now p is taken only where
+    # every divisor's lag differences exceed 10 tol, and the march goes on to period 1.
+    from numerics import continue_orbits, steady_states
+    from perturb import PAPER
+
+    run = continue_orbits(1.25, 1500.0, 1700.0)
+    (branch,) = [b for b in run.branches if b.frequency_hz.size]
+    near = np.flatnonzero((branch.frequency_hz > 1557.3) & (branch.frequency_hz < 1575.0))
+    assert near.size >= 2
+    found = steady_states(branch.frequency_hz[near], 1.25 * PAPER.Q_n, method="march",
+                          steps_per_period=run.settings["steps_per_period"], refinements=0,
+                          app_rtol=None, y_init_m=branch.y_start_m[near] * 1.001,
+                          v_init_m_s=branch.v_start_m_s[near])
+    assert found.settled.all() and (found.period == 1).all(), found.period
+    # Within the march's tol (1e-6) of the continued orbit: measured 1.9e-8.
+    assert np.max(np.abs(found.app_m / branch.app_m[near] - 1)) < 1e-6

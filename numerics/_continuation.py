@@ -155,11 +155,9 @@ class Continuation(Result):
         return [b for b in self.bifurcations if b.kind == "fold"]
 
     def summary(self) -> str:
-        counts = {k: sum(b.kind == k for b in self.bifurcations) for k in KINDS}
         return (f"Continuation: P_a = {self.pa_frac:g} Q, {len(self.branches)} branch(es), "
                 f"{sum(b.frequency_hz.size for b in self.branches)} points, "
-                f"{counts['fold']} folds, {counts['period-doubling']} period doublings, "
-                f"{self.elapsed_s:.3g} s")
+                f"{count_kinds(self.bifurcations)}, {self.elapsed_s:.3g} s")
 
     def table(self) -> str:
         lines = [f"  {b.summary()}" for b in self.branches]
@@ -226,11 +224,7 @@ def continue_orbits(
     fmin_hz, fmax_hz = check_positive("fmin_hz", fmin_hz), check_positive("fmax_hz", fmax_hz)
     if not fmin_hz < fmax_hz:
         raise ValueError(f"`fmax_hz` must be above `fmin_hz`, got {fmin_hz!r} and {fmax_hz!r}.")
-    if period not in PERIODS_TRIED:
-        raise ValueError(f"`period` must be one of {PERIODS_TRIED}, got {period!r}.")
-    ds_max = check_positive("ds_max", ds_max)
-    max_angle = check_positive("max_angle", max_angle)
-    max_points = check_int("max_points", max_points, minimum=2)
+    ds_max, max_angle, max_points = check_walk(period, ds_max, max_angle, max_points)
     numbers = eq26_numbers(model.parameters)
     low, high = _BAND_OF_F_N0[0] * numbers.f_n0_hz, _BAND_OF_F_N0[1] * numbers.f_n0_hz
     if not (low <= fmin_hz and fmax_hz <= high):
@@ -238,11 +232,7 @@ def continue_orbits(
                          f"({_BAND_OF_F_N0[0]:g} to {_BAND_OF_F_N0[1]:g} f_n0: a period of the "
                          f"branch must be a few to some ten thousand natural periods), got "
                          f"{fmin_hz!r} and {fmax_hz!r}.")
-    if steps_per_period == "auto":
-        steps = max(int(lane_steps("auto", np.array([fmin_hz]), numbers.fastest_rate_per_s)[0]),
-                    _AUTO_MIN_STEPS)
-    else:
-        steps = check_int("steps_per_period", steps_per_period, minimum=4)
+    steps = branch_steps(steps_per_period, fmin_hz, numbers)
     start = time.perf_counter()
     p_a = pa_frac * model.parameters.Q_n
     shoot = PeriodMap(model, p_a, steps, period)
@@ -253,6 +243,30 @@ def continue_orbits(
     return Continuation(pa_frac=pa_frac, branches=branches, bifurcations=bifurcations,
                         model=model.as_dict(), settings=settings,
                         elapsed_s=time.perf_counter() - start)
+
+
+def check_walk(period, ds_max, max_angle, max_points) -> tuple[float, float, int]:
+    """The walk's settings checked (a ValueError naming the argument): ds_max, max_angle,
+    max_points."""
+    if period not in PERIODS_TRIED:
+        raise ValueError(f"`period` must be one of {PERIODS_TRIED}, got {period!r}.")
+    return (check_positive("ds_max", ds_max), check_positive("max_angle", max_angle),
+            check_int("max_points", max_points, minimum=2))
+
+
+def branch_steps(steps_per_period, f_hz: float, numbers) -> int:
+    """N, fixed along a branch: "auto" takes ``steady_states``' choice at ``f_hz``, but at
+    least _AUTO_MIN_STEPS."""
+    if steps_per_period == "auto":
+        return max(int(lane_steps("auto", np.array([f_hz]), numbers.fastest_rate_per_s)[0]),
+                   _AUTO_MIN_STEPS)
+    return check_int("steps_per_period", steps_per_period, minimum=4)
+
+
+def count_kinds(bifurcations: list[Bifurcation]) -> str:
+    """"N folds, M period doublings" of a list of bifurcations, for a summary."""
+    counts = {k: sum(b.kind == k for b in bifurcations) for k in KINDS}
+    return f"{counts['fold']} folds, {counts['period-doubling']} period doublings"
 
 
 def walk_band(shoot: PeriodMap, model, low: float, high: float, ds_max, max_angle,

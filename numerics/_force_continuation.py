@@ -13,24 +13,21 @@ from __future__ import annotations
 
 import time
 
-import numpy as np
-
-from common import Result, check_int, check_positive, result
+from common import Result, check_positive, result
 from perturb import ContactModel, eq26_numbers
 
 from ._continuation import (
-    _AUTO_MIN_STEPS,
     _BAND_OF_F_N0,
     DEFAULTS,
-    KINDS,
-    PERIODS_TRIED,
     Bifurcation,
     ContinuedBranch,
+    branch_steps,
+    check_walk,
+    count_kinds,
     walk_band,
 )
 from ._continuation_map import ForceMap
 from ._simulate import check_model
-from ._steady import lane_steps
 
 __all__ = ["ForceContinuation", "continue_in_force"]
 
@@ -61,11 +58,9 @@ class ForceContinuation(Result):
     elapsed_s: float = 0.0
 
     def summary(self) -> str:
-        counts = {k: sum(b.kind == k for b in self.bifurcations) for k in KINDS}
         return (f"ForceContinuation: f_e = {self.frequency_hz:g} Hz, {len(self.branches)} "
                 f"branch(es), {sum(b.frequency_hz.size for b in self.branches)} points, "
-                f"{counts['fold']} folds, {counts['period-doubling']} period doublings, "
-                f"{self.elapsed_s:.3g} s")
+                f"{count_kinds(self.bifurcations)}, {self.elapsed_s:.3g} s")
 
     def table(self) -> str:
         lines = [f"  {b.summary()}" for b in self.branches]
@@ -121,21 +116,13 @@ def continue_in_force(
     pa_max = check_positive("pa_max", pa_max)
     if not pa_min < pa_max:
         raise ValueError(f"`pa_max` must be above `pa_min`, got {pa_min!r} and {pa_max!r}.")
-    if period not in PERIODS_TRIED:
-        raise ValueError(f"`period` must be one of {PERIODS_TRIED}, got {period!r}.")
-    ds_max = check_positive("ds_max", ds_max)
-    max_angle = check_positive("max_angle", max_angle)
-    max_points = check_int("max_points", max_points, minimum=2)
+    ds_max, max_angle, max_points = check_walk(period, ds_max, max_angle, max_points)
     numbers = eq26_numbers(model.parameters)
     low, high = _BAND_OF_F_N0[0] * numbers.f_n0_hz, _BAND_OF_F_N0[1] * numbers.f_n0_hz
     if not low <= f_e <= high:
         raise ValueError(f"`frequency_hz` must lie within {low:.3g}-{high:.3g} Hz "
                          f"({_BAND_OF_F_N0[0]:g} to {_BAND_OF_F_N0[1]:g} f_n0), got {f_e!r}.")
-    if steps_per_period == "auto":
-        steps = max(int(lane_steps("auto", np.array([f_e]), numbers.fastest_rate_per_s)[0]),
-                    _AUTO_MIN_STEPS)
-    else:
-        steps = check_int("steps_per_period", steps_per_period, minimum=4)
+    steps = branch_steps(steps_per_period, f_e, numbers)
     start = time.perf_counter()
     shoot = ForceMap(model, f_e, steps, period)
     q = model.parameters.Q_n

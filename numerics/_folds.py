@@ -51,7 +51,7 @@ from collections.abc import Sequence
 import numpy as np
 from scipy.optimize import brentq
 
-from common import Result, Status, check_int, check_positive, progress, result
+from common import Result, Status, check_positive, progress, result
 from perturb import ContactModel
 
 from ._continuation import (
@@ -62,6 +62,7 @@ from ._continuation import (
     _SHRINK,
     LOCATE_TOL,
     Bifurcation,
+    check_walk,
     continue_orbits,
 )
 from ._continuation import DEFAULTS as _CONTINUATION_DEFAULTS
@@ -317,9 +318,7 @@ def fold_curves(
     if not pa_min < pa_max:
         raise ValueError(f"`pa_max` must be above `pa_min`, got {pa_min!r} and {pa_max!r}.")
     seeds = _seed_levels(seed_pa_fracs, pa_min, pa_max)
-    ds_max = check_positive("ds_max", ds_max)
-    max_angle = check_positive("max_angle", max_angle)
-    max_points = check_int("max_points", max_points, minimum=2)
+    ds_max, max_angle, max_points = check_walk(1, ds_max, max_angle, max_points)
     start = time.perf_counter()
     bar = progress(len(seeds), "folds", quiet=quiet)
     box = (fmin_hz, fmax_hz, pa_min, pa_max)

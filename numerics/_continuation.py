@@ -30,13 +30,14 @@ import numpy as np
 from scipy.optimize import brentq
 from scipy.signal import find_peaks
 
-from common import Result, Status, check_int, check_positive, progress, result
+from common import Result, Status, check_choice, check_int, check_positive, progress, result
 from perturb import ContactModel, eq26_numbers
 
 from ._continuation_map import PeriodMap, Point
 from ._lanes import Lanes
 from ._simulate import check_model
 from ._steady import PERIODS_TRIED, lane_steps, steady_states
+from ._sweep import ENGINES
 
 __all__ = ["Bifurcation", "Continuation", "ContinuedBranch", "continue_orbits", "DEFAULTS"]
 
@@ -140,7 +141,7 @@ class Continuation(Result):
         In the order met along the branches.
     model, settings : dict
         The model (``ContactModel.as_dict()``); fmin_hz, fmax_hz, steps_per_period
-        (the N used), ds_max, max_angle, max_points.
+        (the N used), ds_max, max_angle, max_points, engine (the one that ran).
     elapsed_s : float
     """
 
@@ -178,6 +179,7 @@ def continue_orbits(
     max_angle: float = DEFAULTS["max_angle"],
     max_points: int = DEFAULTS["max_points"],
     quiet: bool = True,
+    engine: str = "auto",
 ) -> Continuation:
     """Continue the p-periodic orbit reached at ``fmin_hz`` from rest up to ``fmax_hz``.
 
@@ -208,6 +210,13 @@ def continue_orbits(
         The branch gives up after this many points.
     quiet : bool
         No progress bar on stderr.
+    engine : {"auto", "compiled", "python"}
+        The walk's steps (predictor, Newton, step control) in compiled code, handing
+        back to Python only where a bifurcation is located or the band ends ("auto", the
+        default, and "compiled": built once per model, some 15 s), or step by step in
+        Python (the reference). Both walk the same branch, to Newton's tolerance, but
+        where the map's corners crowd (loss of contact) a round-off can end a walk at
+        another corner.
 
     Returns
     -------
@@ -225,6 +234,7 @@ def continue_orbits(
     if not fmin_hz < fmax_hz:
         raise ValueError(f"`fmax_hz` must be above `fmin_hz`, got {fmin_hz!r} and {fmax_hz!r}.")
     ds_max, max_angle, max_points = check_walk(period, ds_max, max_angle, max_points)
+    check_choice("engine", engine, ENGINES)
     numbers = eq26_numbers(model.parameters)
     low, high = _BAND_OF_F_N0[0] * numbers.f_n0_hz, _BAND_OF_F_N0[1] * numbers.f_n0_hz
     if not (low <= fmin_hz and fmax_hz <= high):
@@ -235,11 +245,12 @@ def continue_orbits(
     steps = branch_steps(steps_per_period, fmin_hz, numbers)
     start = time.perf_counter()
     p_a = pa_frac * model.parameters.Q_n
-    shoot = PeriodMap(model, p_a, steps, period)
+    shoot = PeriodMap(model, p_a, steps, period, engine)
     branches, bifurcations = walk_band(shoot, model, fmin_hz, fmax_hz, ds_max, max_angle,
                                        max_points, quiet)
     settings = {"fmin_hz": fmin_hz, "fmax_hz": fmax_hz, "steps_per_period": steps,
-                "ds_max": ds_max, "max_angle": max_angle, "max_points": max_points}
+                "ds_max": ds_max, "max_angle": max_angle, "max_points": max_points,
+                "engine": "python" if shoot.walker is None else "compiled"}
     return Continuation(pa_frac=pa_frac, branches=branches, bifurcations=bifurcations,
                         model=model.as_dict(), settings=settings,
                         elapsed_s=time.perf_counter() - start)
@@ -348,6 +359,10 @@ class _Walk:
         self.orientation = 1.0  # the sign of det([J; t]) along the branch
         self.resume: float | None = None  # the step to resume with after a corner
         self.from_edge = True  # started at the band's edge (not off a bifurcation)
+        # The walk's numbers for the compiled steps, in _walk_template's order.
+        self.settings = np.array([_DS_MIN, ds_max, max_angle, _GROW, _SHRINK, _CORNER_DS,
+                                  _EASY_ITERATIONS, *shoot.newton_settings(), self.f_lo,
+                                  self.f_hi])
 
     def end(self, status: Status, message: str) -> None:
         self.status, self.message = status, message
@@ -366,7 +381,12 @@ class _Walk:
             if len(self.points) >= self.max_points:
                 self.end(Status.FAILED, f"gave up after {self.max_points} points (max_points)")
                 break
-            step = self._step(ds)
+            if self.shoot.walker is None:
+                step = self._step(ds)
+            else:
+                step, ds = self._compiled_steps(ds)
+                if step is _PLAIN:  # plain points kept, none needing Python: walk on
+                    continue
             if step is None:
                 self.end(Status.FAILED, f"step below {_DS_MIN:g} at "
                          f"{self.shoot.label(self.points[-1].z)}: Newton does not converge there")
@@ -378,6 +398,32 @@ class _Walk:
                 break
             self._keep(point, t)
             self.bar.update(point.z[2] * self.shoot.scale[2], self.direction)
+
+    def _compiled_steps(self, ds: float):
+        """``_step`` repeated in compiled code (``_walk_template.walk_steps``), keeping
+        the plain points: (the step for Python to finish, as ``_step`` gives it, or None
+        when the step failed, or _PLAIN when only plain points were walked; the ds)."""
+        shoot, walker = self.shoot, self.shoot.walker
+        rows = min(_CHUNK, self.max_points - len(self.points))
+        z, t, jac = np.empty((rows, 3)), np.empty((rows, 3)), np.empty((rows, 2, 3))
+        mono, iterations = np.empty((rows, 2, 2)), np.empty(rows, dtype=np.int64)
+        state = np.array([ds, -1.0 if self.resume is None else self.resume])
+        outcome, kept = walker.walk_steps(
+            self.points[-1].z, self.tangents[-1], self.points[-1].monodromy,
+            float(self.orientation), state, shoot.scale, shoot.steps, shoot.period,
+            shoot.drive, shoot.force_is_parameter, shoot.other, self.settings, z, t, jac,
+            mono, iterations)
+        self.resume = None if state[1] < 0.0 else float(state[1])
+        for i in range(kept):
+            self._keep(Point(z[i], jac[i], mono[i], int(iterations[i])), t[i])
+        if kept:
+            self.bar.update(self.points[-1].z[2] * shoot.scale[2], self.direction)
+        if outcome == walker.WALK_FULL:
+            return _PLAIN, float(state[0])
+        if outcome == walker.WALK_FAILED:
+            return None, ds
+        point = Point(z[kept], jac[kept], mono[kept], int(iterations[kept]))
+        return (point, t[kept], float(state[0])), float(state[0])
 
     def _keep(self, point: Point, t: np.ndarray) -> None:
         self.points.append(point)
@@ -474,6 +520,12 @@ _BAND_OF_F_N0 = (1e-4, 1e2)
 
 class _NotLocated(Exception):
     pass
+
+
+#: Points that one compiled call walks at most, so that the progress bar moves (and
+#: Ctrl-C is heard) between calls; _PLAIN says that a call kept only plain points.
+_CHUNK = 256
+_PLAIN = object()
 
 
 #: Two walks that end within this distance (in z) of each other end at the same corner of

@@ -8,8 +8,8 @@ where Phi_p is p periods of the very RK4 map the simulator iterates (Eq. 2.4,
 a fixed N steps per period, dt = 1 / (N f)): with N fixed, Phi_p is a smooth
 function of (x, f) while the slider stays in contact, and a piecewise smooth
 one through loss of contact (Eq. 2.1). d/dx is the monodromy matrix from the
-compiled tangent kernel (``shoot_periods``), d/df a central difference, both
-in one kernel call of three lanes.
+compiled tangent kernel (``shoot_periods``), d/df a central difference of two
+lanes run without the tangent (``advance_periods``).
 
 The unknowns are scaled to order one so that an arclength weighs them alike:
 z = (y / y0, v / (omega0 y0), f / f_n0).
@@ -17,7 +17,9 @@ z = (y / y0, v / (omega0 y0), f / f_n0).
 
 from __future__ import annotations
 
+import cmath
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -28,9 +30,15 @@ from ._lanes import drive_table
 
 __all__ = ["ForceMap", "PeriodMap", "Point"]
 
-#: Relative step of the central difference in f: its truncation error (h^2, 1e-10) and
-#: its round-off (1e-14 of y over h, 1e-9) are both far below Newton's tolerance.
-_DF_REL = 1e-5
+#: Relative step of the central difference in the parameter (f_e or P_a). Its error, the
+#: truncation (h^2: 1e-14) plus the round-off of one period over h (1e-13 / h: 1e-6),
+#: only slows Newton by that factor and tilts the tangent as little: a fold, where M - I
+#: is singular, does not move. It is small so that it rarely straddles a corner of the
+#: map: at 0.15 Q on the bouncing branch, +-1e-5 f did so often enough that Newton
+#: converged linearly there, and the walk took 20,918 evaluations of R where this takes
+#: some 12,700. (A forward difference, one lane fewer, turned the corners near 352 Hz
+#: into a dozen "folds": kept central.)
+_DF_REL = 1e-7
 #: Newton stops when the scaled update is below this (y to 1e-10 y0, some 2e-17 m on
 #: the paper's model; the round-off of one period of RK4 is about 1e-13 y0).
 NEWTON_TOL = 1e-10
@@ -68,10 +76,14 @@ class Point:
         """The sign of det([J; t]): the orientation that ``t`` gives the branch."""
         return float(np.sign(np.linalg.det(np.vstack([self.jacobian, t]))))
 
-    @property
+    @cached_property
     def multipliers(self) -> np.ndarray:
-        """The Floquet multipliers: eigenvalues of the monodromy matrix."""
-        return np.linalg.eigvals(self.monodromy).astype(complex)
+        """The Floquet multipliers: eigenvalues of the monodromy matrix, the roots of
+        mu^2 - tr(M) mu + det(M) = 0 (a closed form: this is asked of every point)."""
+        (a, b), (c, d) = self.monodromy
+        half_trace, det = 0.5 * (a + d), a * d - b * c
+        root = cmath.sqrt(half_trace * half_trace - det)
+        return np.array([half_trace + root, half_trace - root])
 
     @property
     def stable(self) -> bool:
@@ -79,15 +91,19 @@ class Point:
 
     @property
     def period_doubling_test(self) -> float:
-        """det(M + I) = (1 + mu1)(1 + mu2): changes sign where a multiplier crosses -1."""
-        return float(np.linalg.det(self.monodromy + np.eye(2)))
+        """det(M + I) = (1 + mu1)(1 + mu2) = 1 + tr(M) + det(M): changes sign where a
+        multiplier crosses -1."""
+        (a, b), (c, d) = self.monodromy
+        return float(1.0 + a + d + a * d - b * c)
 
 
 class PeriodMap:
     """Phi_p at one P_a and N steps per period, in the scaled unknowns z."""
 
-    def __init__(self, model: ContactModel, p_a_n: float, steps: int, period: int) -> None:
+    def __init__(self, model: ContactModel, p_a_n: float, steps: int, period: int,
+                 engine: str = "auto") -> None:
         numbers = eq26_numbers(model.parameters)
+        self.model, self.engine = model, engine
         self.kernels = compiled_kernels(model)
         self.steps, self.period = steps, period
         self.drive = drive_table(steps)
@@ -96,6 +112,25 @@ class PeriodMap:
         self.scale = np.array([numbers.y0_m, numbers.omega0_rad_s * numbers.y0_m,
                                numbers.f_n0_hz])
         self.evaluations = 0
+        # The compiled walk's view of the map: which drive is the parameter, the other
+        # one's value, the least scale of the difference step (``difference_step``).
+        self.force_is_parameter, self.other, self.difference_floor = False, float(p_a_n), 0.0
+
+    @cached_property
+    def walker(self):
+        """The compiled walk of the model (``_walk_codegen``: built once, some 15 s), or
+        None for ``engine="python"``, the reference: the walk steps in Python."""
+        if self.engine == "python":
+            return None
+        from ._walk_codegen import compiled_walk
+
+        return compiled_walk(self.model)
+
+    def newton_settings(self) -> list[float]:
+        """The corrector's numbers for the compiled walk, in ``_walk_template``'s order:
+        tolerance, iterations, reach, backtracks, relative difference step, its floor."""
+        return [NEWTON_TOL, NEWTON_ITERATIONS, _NEWTON_REACH, _BACKTRACKS, _DF_REL,
+                self.difference_floor]
 
     def physical(self, z: np.ndarray) -> tuple[float, float, float]:
         """(y [m], v [m/s], the parameter: f_e [Hz]) of a scaled point."""
@@ -116,26 +151,37 @@ class PeriodMap:
 
     def difference_step(self, value: float) -> float:
         """The step of the central difference in the parameter at ``value``."""
-        return _DF_REL * value
+        return _DF_REL * max(abs(value), self.difference_floor)
 
     def residual(self, z: np.ndarray):
         """R (2,), its Jacobian dR/dz (2, 3) and the monodromy matrix (2, 2) at z."""
         y, v, value = self.physical(z)
         h = self.difference_step(value)
-        freq, p_a = self.drives(np.array([value, value + h, value - h]))
-        ys, vs = np.full(3, y), np.full(3, v)
-        monodromy = np.empty((3, 2, 2))
-        self.kernels.shoot_periods(ys, vs, 1.0 / (self.steps * freq), p_a, self.drive,
-                                   self.period, monodromy)
+        orbit = self._run(np.array([y]), np.array([v]), np.array([value]), tangent=True)
+        ahead, behind = self._run(np.full(2, y), np.full(2, v), np.array([value + h, value - h]))
         self.evaluations += 1
-        d = self.scale[:2]
-        r = np.array([ys[0] - y, vs[0] - v]) / d
-        jacobian = np.empty((2, 3))
-        # D^-1 (M - I) D: the monodromy in the scaled state.
-        jacobian[:, :2] = (monodromy[0] - np.eye(2)) * d[None, :] / d[:, None]
-        jacobian[:, 2] = np.array([ys[1] - ys[2], vs[1] - vs[2]]) / (2 * h) * self.scale[2] / d
-        return r, jacobian, monodromy[0]
+        (y_end,), (v_end,), ((m00, m01), (m10, m11)) = orbit
+        dy, dv = self.scale[0], self.scale[1]
+        # D^-1 (M - I) D in the scaled state, then dR/d(parameter) by the central
+        # difference, scaled.
+        dp = self.scale[2] / (2.0 * h)
+        jacobian = np.array([[m00 - 1.0, m01 * dv / dy, (ahead[0] - behind[0]) * dp / dy],
+                             [m10 * dy / dv, m11 - 1.0, (ahead[1] - behind[1]) * dp / dv]])
+        return np.array([(y_end - y) / dy, (v_end - v) / dv]), jacobian, orbit[2]
 
+    def _run(self, y: np.ndarray, v: np.ndarray, parameter: np.ndarray, tangent=False):
+        """Phi_p of each lane, (y, v) in place: with the monodromy matrix of the first
+        lane, ``(y, v, M)``, if ``tangent``, else the lanes' end states ``[(y, v), ...]``
+        (the neighbours of the central difference need no tangent: a third of the cost)."""
+        freq, p_a = self.drives(parameter)
+        dt = 1.0 / (self.steps * freq)
+        if tangent:
+            monodromy = np.empty((1, 2, 2))
+            self.kernels.shoot_periods(y, v, dt, p_a, self.drive, self.period, monodromy)
+            return y, v, monodromy[0]
+        self.kernels.advance_periods(y, v, dt, p_a, self.drive, self.period,
+                                     np.full(y.size, -1, dtype=np.int64), np.full(y.size, np.inf))
+        return list(zip(y, v))
 
     def correct(self, z: np.ndarray, row: np.ndarray, target: float) -> Point | None:
         """Newton on R(z) = 0 with the one extra equation row . z = target (the
@@ -147,19 +193,23 @@ class PeriodMap:
         Newton converge there too, linearly at first.
         """
         z = z.copy()
+        bordered = np.empty((row.size, row.size))  # [dR/dz; row], any number of unknowns
+        bordered[-1] = row
         with np.errstate(all="ignore"):
             r, jacobian, monodromy = self.residual(z)
             full = np.append(r, row @ z - target)
             for iteration in range(1, NEWTON_ITERATIONS + 1):
                 if not (np.isfinite(full).all() and np.isfinite(jacobian).all()):
                     return None
+                bordered[:-1] = jacobian
                 try:
-                    step = np.linalg.solve(np.vstack([jacobian, row]), -full)
+                    step = np.linalg.solve(bordered, -full)
                 except np.linalg.LinAlgError:
                     return None
-                if np.abs(step).max() < NEWTON_TOL:
+                largest = np.abs(step).max()
+                if largest < NEWTON_TOL:
                     return Point(z + step, jacobian, monodromy, iteration)
-                if not np.abs(step).max() < _NEWTON_REACH:
+                if not largest < _NEWTON_REACH:
                     return None
                 norm = np.linalg.norm(full)
                 for _ in range(_BACKTRACKS):
@@ -169,6 +219,8 @@ class PeriodMap:
                     if np.linalg.norm(f_trial) < norm:
                         break
                     step = 0.5 * step
+                else:
+                    return None  # no halving reduced |F|: stuck at a corner of the map
                 z, full, jacobian, monodromy = trial, f_trial, j_trial, m_trial
         return None
 
@@ -177,10 +229,14 @@ class ForceMap(PeriodMap):
     """Phi_p at one f_e and N steps per period, with P_a the parameter: the scaled
     unknowns are z = (y / y0, v / (omega0 y0), P_a / Q)."""
 
-    def __init__(self, model: ContactModel, f_hz: float, steps: int, period: int) -> None:
-        super().__init__(model, 0.0, steps, period)
+    def __init__(self, model: ContactModel, f_hz: float, steps: int, period: int,
+                 engine: str = "auto") -> None:
+        super().__init__(model, 0.0, steps, period, engine)
         self.f_hz = f_hz
         self.scale[2] = model.parameters.Q_n
+        # relative to Q: P_a may be near 0
+        self.force_is_parameter, self.other = True, float(f_hz)
+        self.difference_floor = float(model.parameters.Q_n)
 
     def drives(self, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         parameter = np.asarray(parameter, dtype=float)
@@ -188,6 +244,3 @@ class ForceMap(PeriodMap):
 
     def label(self, z: np.ndarray) -> str:
         return f"P_a = {z[2]:.6g} Q"
-
-    def difference_step(self, value: float) -> float:
-        return _DF_REL * max(abs(value), self.scale[2])  # relative to Q: P_a may be near 0

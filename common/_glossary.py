@@ -212,6 +212,10 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "cells": ("the atlas's grid: [frequencies, amplitudes]", "1", ""),
     "tasks": ("how many tasks (blocks of consecutive cells) the atlas was cut into", "1", ""),
     "cell_time_s": ("the atlas's wall time per cell", "s", ""),
+    "workers": ("an atlas scene's worker processes on this machine (null: one per processor)",
+                "1", ""),
+    "overlay_folds": ("an atlas scene also continues the fold curves of its box and draws "
+                      "them over the map", "", "Section 3.3"),
     "models": ("the effects of each RK4 model of the comparison, by model_name", "", ""),
     # -- derived values in the JSON
     "height_ratio": ("series_app_m / rk4_app_m of a peak", "1", ""),
@@ -284,8 +288,15 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "max_angle": ("largest angle between the tangents of consecutive continued points",
                   "rad", ""),
     "max_points": ("most points a continued branch may take", "1", ""),
+    "engine": ("how a walk ran: 'compiled' (whole in machine code) or 'python' (the "
+               "reference, step by step); asked for as 'auto', 'compiled' or 'python'", "",
+               ""),
     "switched_at_hz": ("the period doublings a period-2p branch was switched onto at "
                        "(branch switching)", "Hz", ""),
+    "continued_in": ("the parameter a continuation scene follows its orbits in: "
+                     "frequency_hz (one branch set per P_a) or pa_frac (one per f_e)", "", ""),
+    "switch_branches": ("a continuation scene also continues the period-2p branch born at "
+                        "each period doubling", "", ""),
     # -- fold curves in the (f_e, P_a) plane (issue 13, item 4)
     "fold_curves": ("fold curves of period-1 orbits continued in (f_e, P_a): per point "
                     "frequency_hz, pa_frac, app_m, multipliers, state", "", "Section 3.3"),

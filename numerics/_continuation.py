@@ -236,12 +236,8 @@ def continue_orbits(
     ds_max, max_angle, max_points = check_walk(period, ds_max, max_angle, max_points)
     check_choice("engine", engine, ENGINES)
     numbers = eq26_numbers(model.parameters)
-    low, high = _BAND_OF_F_N0[0] * numbers.f_n0_hz, _BAND_OF_F_N0[1] * numbers.f_n0_hz
-    if not (low <= fmin_hz and fmax_hz <= high):
-        raise ValueError(f"`fmin_hz` and `fmax_hz` must lie within {low:.3g}-{high:.3g} Hz "
-                         f"({_BAND_OF_F_N0[0]:g} to {_BAND_OF_F_N0[1]:g} f_n0: a period of the "
-                         f"branch must be a few to some ten thousand natural periods), got "
-                         f"{fmin_hz!r} and {fmax_hz!r}.")
+    check_band("fmin_hz", fmin_hz, model.parameters)
+    check_band("fmax_hz", fmax_hz, model.parameters)
     steps = branch_steps(steps_per_period, fmin_hz, numbers)
     start = time.perf_counter()
     p_a = pa_frac * model.parameters.Q_n
@@ -254,6 +250,18 @@ def continue_orbits(
     return Continuation(pa_frac=pa_frac, branches=branches, bifurcations=bifurcations,
                         model=model.as_dict(), settings=settings,
                         elapsed_s=time.perf_counter() - start)
+
+
+def check_band(name: str, f_hz: float, parameters) -> None:
+    """A ValueError naming ``name`` unless f_e = ``f_hz`` lies in the band where a branch of
+    the model (its ``ContactParameters``) can be continued: ``_BAND_OF_F_N0`` times f_n0."""
+    f_n0 = eq26_numbers(parameters).f_n0_hz
+    low, high = _BAND_OF_F_N0[0] * f_n0, _BAND_OF_F_N0[1] * f_n0
+    if not low <= f_hz <= high:
+        raise ValueError(f"`{name}` must lie within {low:.3g}-{high:.3g} Hz "
+                         f"({_BAND_OF_F_N0[0]:g} to {_BAND_OF_F_N0[1]:g} f_n0: a period of a "
+                         f"branch is a few to some ten thousand natural periods), got "
+                         f"{f_hz!r}.")
 
 
 def check_walk(period, ds_max, max_angle, max_points) -> tuple[float, float, int]:

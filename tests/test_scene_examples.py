@@ -14,10 +14,10 @@ EXAMPLES = sorted((Path(__file__).parent.parent / "paper_checks" / "scenes" / "e
 TEST_FRAMES = 6
 
 
-def test_there_are_the_five_examples_the_readme_lists():
+def test_there_are_the_eight_examples_the_readme_lists():
     names = {p.stem for p in EXAMPLES}
     assert names == {"linear-contact", "superharmonic-birth", "bouncing", "other-contact",
-                     "effects-at-740hz"}
+                     "effects-at-740hz", "continuation", "folds", "atlas"}
     readme = (Path(__file__).parent.parent / "README.md").read_text(encoding="utf-8")
     for name in names:
         assert f"examples/{name}.toml" in readme, name
@@ -29,6 +29,8 @@ def test_each_example_runs_and_writes_its_figures(path, tmp_path):
     assert scene.description.strip(), "an example says what it shows"
     if scene.animation:
         scene = dataclasses.replace(scene, animation={**scene.animation, "frames": TEST_FRAMES})
+    if scene.study == "atlas":  # in this process: the tests share the machine
+        scene = dataclasses.replace(scene, options={**scene.options, "workers": 1})
     run = run_scene(scene, out=tmp_path)
     assert run.outcomes and all(o.summary() for o in run.outcomes)
     expected = list(scene.figures.values())
@@ -45,3 +47,18 @@ def test_the_bouncing_example_loses_contact_and_the_linear_one_cannot():
     assert (fraction > 0).all()  # at 0.5 Q over 900-1500 Hz the slider flies every period
     linear = read_scene(EXAMPLES[0].parent / "linear-contact.toml")
     assert linear.effects.contact_loss is False and linear.effects.spring == "linear"
+
+
+def test_the_orbit_examples_show_folds_a_cusp_and_coexisting_attractors():
+    """What each description promises: the primary peak at 0.05 Q folds twice (continue_orbits'
+    docstring: 1420 and 1373 Hz), its fold curves meet at one cusp near 0.033 Q (fold_curves'
+    docstring: 1442 Hz, 0.0334 Q), and somewhere on the small atlas attractors coexist."""
+    folder = EXAMPLES[0].parent
+    continued = run_scene(read_scene(folder / "continuation.toml")).outcomes[0]
+    assert [round(b.frequency_hz) for b in continued.folds()] == [1420, 1373]
+    cusps = run_scene(read_scene(folder / "folds.toml")).outcomes[0].cusps
+    assert [(c.resonance, round(c.pa_frac, 3)) for c in cusps] == [(1, 0.033)]
+    scene = read_scene(folder / "atlas.toml")
+    scene = dataclasses.replace(scene, options={**scene.options, "workers": 1})
+    found = run_scene(scene).outcomes[0]
+    assert found.attractor_count.shape == (4, 6) and found.attractor_count.max() >= 2

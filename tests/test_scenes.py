@@ -9,10 +9,19 @@ import pytest
 
 from common import Status, load
 from numerics import attractors, simulate, sweep
+from numerics._attractors import DEFAULT_GRID
 from numerics.scenes import SceneError, parse_scene, read_scene, run_scene
 from numerics.scenes import _auto as auto
 from numerics.scenes._studies import model_of, run_study
-from perturb import EQ_2_6, FULL, PAPER, ContactModel, frequency_response
+from perturb import (
+    EQ_2_6,
+    FULL,
+    PAPER,
+    ContactModel,
+    eq26_numbers,
+    frequency_response,
+    parameters_with,
+)
 
 SWEEP = """
 title = "two points"
@@ -453,3 +462,247 @@ def test_auto_at_rest_measures_changes_in_the_models_own_length():
     run = run_scene(scene)
     row = next(r for r in run.selection if r["effect"].startswith("gravity"))
     assert row["verdict"] == "kept" and row["change"]["extrema"] > 0.1
+
+
+# --- issue 13, item 7: continuation, fold curves and the atlas are studies of a scene -------
+
+CONTINUATION = """
+[excitation]
+pa_frac = 0.05
+frequency_hz = [1300.0, 1600.0]
+[study]
+kind = "continuation"
+"""
+FOLDS = """
+[excitation]
+pa_frac = [0.03, 0.05]
+frequency_hz = [1300.0, 1500.0]
+[study]
+kind = "folds"
+"""
+ATLAS = """
+[excitation]
+pa_frac = {start = 0.05, stop = 0.5, count = 2}
+frequency_hz = {start = 480.0, stop = 500.0, count = 3}
+[study]
+kind = "atlas"
+workers = 1
+y_over_y0 = [-4.0, 1.0]
+v_over_omega0_y0 = [0.0]
+"""
+
+
+def _with(text: str, study: str = "", excitation: str = "", top: str = "") -> str:
+    """``text`` with lines added to its [study] and its [excitation], and at its top."""
+    text = text.replace("[study]\n", f"[study]\n{study}", 1)
+    return top + text.replace("[excitation]\n", f"[excitation]\n{excitation}", 1)
+
+
+def _without(text: str, key: str) -> str:
+    return "\n".join(line for line in text.splitlines() if not line.startswith(f"{key} ="))
+
+
+def _line(text: str, start: str) -> int:
+    return next(i for i, line in enumerate(text.splitlines(), 1) if line.startswith(start))
+
+
+@pytest.mark.parametrize("text, key, start", [
+    # unknown options and bad values of the walk's settings, at their lines
+    (_with(CONTINUATION, "steps = 512\n"), "study.steps", "steps ="),
+    (_with(CONTINUATION, "ds_max = 0\n"), "study.ds_max", "ds_max ="),
+    (_with(CONTINUATION, "max_angle = 'wide'\n"), "study.max_angle", "max_angle ="),
+    (_with(CONTINUATION, "max_points = 1\n"), "study.max_points", "max_points ="),
+    (_with(CONTINUATION, "steps_per_period = 3\n"), "study.steps_per_period",
+     "steps_per_period ="),
+    # the period is checked by continue_orbits' own check (PERIODS_TRIED)
+    (_with(CONTINUATION, "period = 9\n"), "study.period", "period ="),
+    (_with(CONTINUATION, "continued_in = 'f_e'\n"), "study.continued_in", "continued_in ="),
+    # the band is the excitation's two frequencies, within the model's reach
+    (CONTINUATION.replace("[1300.0, 1600.0]", "[1300.0]"), "excitation.frequency_hz",
+     "frequency_hz ="),
+    (CONTINUATION.replace("[1300.0, 1600.0]", "[1300.0, 1400.0, 1600.0]"),
+     "excitation.frequency_hz", "frequency_hz ="),
+    (CONTINUATION.replace("[1300.0, 1600.0]", "[0.01, 1600.0]"), "excitation.frequency_hz",
+     "frequency_hz ="),
+    (CONTINUATION.replace("pa_frac = 0.05", "pa_frac = 0.0"), "excitation.pa_frac[0]",
+     "pa_frac ="),
+    # in P_a: the range of pa_frac, no branch switching, no figure against f_e
+    (_with(CONTINUATION, "continued_in = 'pa_frac'\n"), "excitation.pa_frac", "pa_frac ="),
+    (_with(CONTINUATION.replace("0.05", "[0.08, 0.02]"), "continued_in = 'pa_frac'\n"),
+     "excitation.pa_frac", "pa_frac ="),
+    (_with(CONTINUATION.replace("0.05", "[0.02, 0.08]"),
+           "continued_in = 'pa_frac'\nswitch_branches = true\n"), "study.switch_branches",
+     "switch_branches ="),
+    (_with(CONTINUATION.replace("0.05", "[0.02, 0.08]"), "continued_in = 'pa_frac'\n")
+     + "[output]\nfigures = ['continuation']\n", "output.figures", "figures ="),
+    # what no continuation gives
+    (_with(CONTINUATION, top="effects = 'auto'\n"), "effects", "effects ="),
+    (_with(CONTINUATION, top="observables = ['app']\n"), "observables", "observables ="),
+    (CONTINUATION + "[output]\nfigures = ['census']\n", "output.figures[0]", "figures ="),
+    (_with(CONTINUATION, top="effects = 'cubic'\n"), "effects", "effects ="),
+    (_without(CONTINUATION, "pa_frac"), "excitation.pa_frac", None),  # missing: no line
+    # fold curves: a box with its low P_a above 0, seeds inside it
+    (FOLDS.replace("[0.03, 0.05]", "[0.0, 0.05]"), "excitation.pa_frac", "pa_frac ="),
+    (FOLDS.replace("[0.03, 0.05]", "0.05"), "excitation.pa_frac", "pa_frac ="),
+    (_with(FOLDS, "seed_pa_fracs = [0.5]\n"), "study.seed_pa_fracs", "seed_pa_fracs ="),
+    (_with(FOLDS, "seed_pa_fracs = 0.04\n"), "study.seed_pa_fracs", "seed_pa_fracs ="),
+    (_with(FOLDS, "seed_pa_fracs = [0.04, 'x']\n"), "study.seed_pa_fracs[1]",
+     "seed_pa_fracs ="),
+    (_with(FOLDS, "period = 2\n"), "study.period", "period ="),
+    # the atlas: evenly spaced axes, its options' ranges, its bound on the work
+    (ATLAS.replace("{start = 480.0, stop = 500.0, count = 3}", "[480.0, 490.0, 520.0]"),
+     "excitation.frequency_hz", "frequency_hz ="),
+    (ATLAS.replace("{start = 0.05, stop = 0.5, count = 2}", "[0.5, 0.05]"),
+     "excitation.pa_frac", "pa_frac ="),
+    (ATLAS.replace("stop = 0.5, count = 2", "stop = 0.01, count = 2"),
+     "excitation.pa_frac.stop", None),  # in an inline table: no line
+    (ATLAS.replace("workers = 1", "workers = 0"), "study.workers", "workers ="),
+    (ATLAS.replace("workers = 1", "workers = 1.5"), "study.workers", "workers ="),
+    (_with(ATLAS, "tol = 0\n"), "study.tol", "tol ="),
+    (_with(ATLAS, "steps_per_period = 'fine'\n"), "study.steps_per_period",
+     "steps_per_period ="),
+    (ATLAS.replace("[-4.0, 1.0]", "[]"), "study.y_over_y0", "y_over_y0 ="),
+    (ATLAS.replace("[0.0]", "[0.0, inf]"), "study.v_over_omega0_y0[1]", "v_over_omega0_y0 ="),
+    (ATLAS.replace("[-4.0, 1.0]", "[" + ", ".join(["1.0"] * 10_001) + "]"),
+     "study.y_over_y0", "y_over_y0 ="),
+    (ATLAS.replace("count = 3", "count = 100000").replace("count = 2", "count = 100"),
+     "excitation", "[excitation]"),
+    (_with(ATLAS, "overlay_folds = true\n").replace("count = 2", "count = 1")
+     .replace("stop = 0.5", "stop = 0.05"), "study.overlay_folds", "overlay_folds ="),
+    (_with(ATLAS, "scheduler = 'tcp://host:8786'\n"), "study.scheduler", "scheduler ="),
+])
+def test_a_bad_orbit_study_is_one_error_naming_key_and_line(text, key, start):
+    message = _error(text)
+    where = "s.toml" if start is None else f"s.toml:{_line(text, start)}"
+    assert message.startswith(f"{where}: `{key}` "), message
+
+
+def test_the_errors_of_an_orbit_study_say_what_is_wanted():
+    assert "two increasing values [low, high], got [1300.0]" in _error(
+        CONTINUATION.replace("[1300.0, 1600.0]", "[1300.0]"))
+    assert "must be one of (1, 2, 3, 4, 5, 6, 7, 8), got 9" in _error(
+        _with(CONTINUATION, "period = 9\n"))
+    assert "its options are continued_in, period, steps_per_period, ds_max" in _error(
+        _with(CONTINUATION, "steps = 512\n"))
+    # The band follows the model's f_n0 (1e-4 to 100 f_n0): at 0.9e-4 f_n0 of a ten times
+    # stiffer contact, a band the paper's model takes is refused.
+    stiffer = eq26_numbers(parameters_with({"c_n": 10 * PAPER.c_n})).f_n0_hz
+    text = CONTINUATION.replace("[1300.0, 1600.0]", f"[{0.9e-4 * stiffer}, 1600.0]")
+    assert parse_scene(text).frequency_hz[0] > 1e-4 * eq26_numbers(PAPER).f_n0_hz
+    message = _error(f"[model]\nc_n = {10 * PAPER.c_n}\n" + text)
+    assert f"must lie within {1e-4 * stiffer:.3g}-{100 * stiffer:.3g} Hz" in message
+    assert "evenly spaced and increasing" in _error(
+        ATLAS.replace("{start = 480.0, stop = 500.0, count = 3}", "[480.0, 490.0, 520.0]"))
+
+
+def test_orbit_studies_fill_in_the_apis_defaults():
+    from numerics._continuation import DEFAULTS as CONTINUATION_DEFAULTS
+    from numerics._folds import DEFAULTS as FOLD_DEFAULTS
+    from numerics._steady import DEFAULTS as STEADY_DEFAULTS
+
+    continuation = parse_scene(CONTINUATION).options
+    assert continuation == {"continued_in": "frequency_hz", "period": 1,
+                            "switch_branches": False} | CONTINUATION_DEFAULTS
+    folds = parse_scene(FOLDS).options
+    assert folds == {"seed_pa_fracs": None} | FOLD_DEFAULTS
+    atlas_options = parse_scene(ATLAS.replace("workers = 1\n", "")
+                                .replace("y_over_y0 = [-4.0, 1.0]\n", "")).options
+    assert atlas_options["workers"] is None  # every processor, as atlas() by default
+    assert atlas_options["tol"] == STEADY_DEFAULTS["tol"]
+    assert atlas_options["y_over_y0"] == DEFAULT_GRID["y_over_y0"]
+
+
+def test_a_continuation_scene_equals_the_api_call_with_its_model():
+    from numerics import continue_orbits
+
+    run = run_scene(parse_scene(_with(CONTINUATION, top='effects = "eq26"\n')))
+    direct = continue_orbits(0.05, 1300.0, 1600.0, model=ContactModel(PAPER, EQ_2_6))
+    (got,), (want,) = run.outcomes[0].branches, direct.branches
+    for name in ("frequency_hz", "app_m", "stable", "multipliers"):
+        assert np.array_equal(getattr(got, name), getattr(want, name)), name
+    assert [b.frequency_hz for b in run.outcomes[0].bifurcations] == [
+        b.frequency_hz for b in direct.bifurcations]
+    assert run.effects == EQ_2_6.__dict__ and run.route == "reduced model"
+
+
+def test_a_continuation_in_force_scene_is_one_per_frequency():
+    from numerics import continue_in_force
+
+    text = _with(CONTINUATION.replace("0.05", "[0.02, 0.08]")
+                 .replace("[1300.0, 1600.0]", "[1400.0, 1450.0]"), "continued_in = 'pa_frac'\n")
+    run = run_scene(parse_scene(text))
+    assert [o.frequency_hz for o in run.outcomes] == [1400.0, 1450.0]
+    direct = continue_in_force(1400.0, 0.02, 0.08)
+    assert np.array_equal(run.outcomes[0].branches[0].pa_frac, direct.branches[0].pa_frac)
+    # At 1400 Hz the force-response curve folds twice (continue_in_force's docstring).
+    assert [b.kind for b in run.outcomes[0].bifurcations] == ["fold", "fold"]
+
+
+def test_a_folds_scene_equals_the_api_call():
+    from numerics import fold_curves
+
+    run = run_scene(parse_scene(_with(FOLDS, "seed_pa_fracs = [0.05, 0.04]\nmax_points = 300\n")))
+    direct = fold_curves(1300.0, 1500.0, 0.03, 0.05, seed_pa_fracs=[0.05, 0.04],
+                         max_points=300)
+    assert [(c.frequency_hz, c.pa_frac) for c in run.outcomes[0].cusps] == [
+        (c.frequency_hz, c.pa_frac) for c in direct.cusps]
+    assert np.array_equal(run.outcomes[0].fold_curves[0].pa_frac,
+                          direct.fold_curves[0].pa_frac)
+
+
+def test_an_atlas_scene_with_fold_curves_over_it_draws_both(tmp_path):
+    from numerics import atlas
+
+    text = ATLAS.replace("0.05, stop = 0.5", "0.03, stop = 0.05").replace(
+        "480.0, stop = 500.0", "1300.0, stop = 1500.0")
+    text = _with(text, "overlay_folds = true\n") + "[output]\nfigures = ['atlas']\n"
+    run = run_scene(parse_scene(text), out=tmp_path)
+    found, folds = run.outcomes
+    direct = atlas(1300.0, 1500.0, 0.03, 0.05, grid=(3, 2), workers=1,
+                   initial_states={"y_over_y0": (-4.0, 1.0), "v_over_omega0_y0": (0.0,)})
+    assert np.array_equal(found.attractor_count, direct.attractor_count)
+    assert [c.resonance for c in folds.cusps] == [1]  # the primary's cusp, at 0.033 Q
+    assert run.files == ["atlas.png"] and (tmp_path / "atlas.png").stat().st_size > 1000
+
+
+@pytest.mark.parametrize("text, command", [
+    (CONTINUATION, ["continue", "--pa-frac", "0.05", "--fmin", "1300", "--fmax", "1600"]),
+    (FOLDS, ["folds", "--fmin", "1300", "--fmax", "1500", "--pa-min", "0.03",
+             "--pa-max", "0.05"]),
+    (ATLAS, ["atlas", "--fmin", "480", "--fmax", "500", "--pa-min", "0.05", "--pa-max", "0.5",
+             "--grid", "3", "2", "--workers", "1"]),
+], ids=["continue", "folds", "atlas"])
+def test_an_orbit_scene_writes_the_json_its_command_writes(text, command, tmp_path):
+    """The scene's JSON holds, as its outcome, what the command's --json writes: one
+    layout (the result's own ``as_dict``), not a second one."""
+    import json
+
+    if command[0] == "atlas":  # the command's census takes the default initial states
+        text = text.replace("y_over_y0 = [-4.0, 1.0]\nv_over_omega0_y0 = [0.0]\n", "")
+    run_scene(parse_scene(text + '[output]\njson = "scene.json"\n'), out=tmp_path)
+    subprocess.run([sys.executable, "-m", "numerics", *command, "--quiet", "--json",
+                    str(tmp_path / "command.json")], check=True, capture_output=True)
+    scene = json.loads((tmp_path / "scene.json").read_text())["outcomes"][0]
+    written = json.loads((tmp_path / "command.json").read_text())
+    for data in (scene, written):  # the times differ from run to run
+        data.pop("elapsed_s")
+        data.pop("cell_time_s", None)
+    assert scene == written
+
+
+def test_every_json_key_of_an_orbit_scene_is_in_the_glossary():
+    from common import GLOSSARY
+
+    keys = set()
+    for text in (_with(CONTINUATION, "switch_branches = true\n"), FOLDS,
+                 _with(ATLAS, "overlay_folds = false\n")):
+        keys |= _json_keys(run_scene(parse_scene(text)).as_dict())
+    assert keys <= set(GLOSSARY), sorted(keys - set(GLOSSARY))
+
+
+def _json_keys(data) -> set:
+    if isinstance(data, dict):
+        return set(data) | {k for v in data.values() for k in _json_keys(v)}
+    if isinstance(data, list):
+        return {k for v in data for k in _json_keys(v)}
+    return set()

@@ -161,6 +161,26 @@ def _comparison(scene, run, out, name):
     return _each(plot_comparison, run.outcomes, out, name)
 
 
+def _continuation(scene, run, out, name):
+    from ..plots import plot_continuation
+
+    return _each(plot_continuation, run.outcomes, out, name)
+
+
+def _folds(scene, run, out, name):
+    from ..plots import plot_folds
+
+    return _each(plot_folds, run.outcomes, out, name)
+
+
+def _atlas(scene, run, out, name):
+    from ..plots import plot_atlas
+
+    found, *folds = run.outcomes  # the fold curves follow with ``overlay_folds``
+    plot_atlas(found, out / name, folds=folds[0] if folds else None)
+    return [name]
+
+
 _FIGURES = {
     "app": _app,
     "extrema": _extrema,
@@ -173,6 +193,9 @@ _FIGURES = {
     "backbone": _backbone,
     "natural_frequency": _natural_frequency,
     "comparison": _comparison,
+    "continuation": _continuation,
+    "folds": _folds,
+    "atlas": _atlas,
 }
 
 

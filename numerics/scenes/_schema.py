@@ -8,15 +8,19 @@ the value. No string of a scene reaches ``eval``, ``exec``, ``sympify`` or
 
 from __future__ import annotations
 
+import importlib
 import math
 import re
 import tomllib
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from perturb import EQ_2_6, FULL, LINEAR, ContactParameters, Effects, parameters_with
+
+from ._study_checks import Checked, Invalid, check_atlas, check_continuation, check_folds
 
 __all__ = ["Scene", "SceneError", "read_scene", "parse_scene", "STUDIES", "OBSERVABLES",
            "NAMED_EFFECTS", "Study", "Option"]
@@ -37,14 +41,29 @@ NAMED_EFFECTS = {"full": FULL, "eq26": EQ_2_6, "linear": LINEAR}
 
 
 @dataclass(frozen=True)
-class Option:
-    """One key of a [study] table: its kind, default and range."""
+class ApiDefault:
+    """A default that the module running the study owns (``module.table[key]``), read
+    only when a scene of that study is checked: the schema imports no study's module."""
 
-    kind: str  # "int", "float", "bool", "choice", "steps", "ints"
+    module: str
+    table: str
+    key: str
+
+    def value(self):
+        return getattr(importlib.import_module(self.module), self.table)[self.key]
+
+
+@dataclass(frozen=True)
+class Option:
+    """One key of a [study] table: its kind, default and range (``None`` as the default:
+    the API's own choice, which TOML cannot write)."""
+
+    kind: str  # "int", "float", "bool", "choice", "steps", "ints", "floats"
     default: object
     minimum: float | None = None
     maximum: float | None = None
     choices: tuple = ()
+    strict_minimum: bool = False  # the value must be above ``minimum``, not equal to it
 
 
 def _steps(default="auto") -> Option:
@@ -61,6 +80,22 @@ class Study:
     figures: tuple[str, ...]
     needs: tuple[str, ...] = ()  # excitation keys it needs: "pa_frac", "frequency_hz"
     auto: bool = False  # whether effects = "auto" applies
+    #: Checks what the options' own ranges cannot (``check(checked) -> None``, ``checked``
+    #: a ``Checked``); it raises ``Invalid`` naming the scene's key (``_study_checks``).
+    check: Callable | None = None
+
+
+# --- the studies of issue 13: continuation, fold curves, the atlas --------------------------
+
+def _walk_options(module: str) -> dict[str, Option]:
+    """The step control of a pseudo-arclength walk, with ``module``'s defaults."""
+    def default(key):
+        return ApiDefault(module, "DEFAULTS", key)
+
+    return {"steps_per_period": _steps(default("steps_per_period")),
+            "ds_max": Option("float", default("ds_max"), 0, strict_minimum=True),
+            "max_angle": Option("float", default("max_angle"), 0, strict_minimum=True),
+            "max_points": Option("int", default("max_points"), 2)}
 
 
 _STEADY = ("app", "extrema", "spectrum", "contact_fraction")
@@ -102,6 +137,28 @@ STUDIES: dict[str, Study] = {
         {"orders": Option("ints", (2, 4, 6, 8), 0, 20),
          "steps_per_period": Option("int", 128, 4, 2**16)},
         ("app",), ("app",), ("comparison",), needs=("pa_frac", "frequency_hz")),
+    "continuation": Study(
+        {"continued_in": Option("choice", "frequency_hz", choices=("frequency_hz", "pa_frac")),
+         "period": Option("int", 1, 1), **_walk_options("numerics._continuation"),
+         "switch_branches": Option("bool", False)},
+        (), (), ("continuation",), needs=("pa_frac", "frequency_hz"),
+        check=check_continuation),
+    "folds": Study(
+        {"seed_pa_fracs": Option("floats", None, 0, strict_minimum=True),
+         **_walk_options("numerics._folds")},
+        (), (), ("folds",), needs=("pa_frac", "frequency_hz"), check=check_folds),
+    "atlas": Study(
+        {"workers": Option("int", None, 1),
+         "steps_per_period": _steps(ApiDefault("numerics._steady", "DEFAULTS",
+                                               "steps_per_period")),
+         "tol": Option("float", ApiDefault("numerics._steady", "DEFAULTS", "tol"), 0, 0.5,
+                       strict_minimum=True),
+         "y_over_y0": Option("floats", ApiDefault("numerics._attractors", "DEFAULT_GRID",
+                                                  "y_over_y0")),
+         "v_over_omega0_y0": Option("floats", ApiDefault("numerics._attractors", "DEFAULT_GRID",
+                                                         "v_over_omega0_y0")),
+         "overlay_folds": Option("bool", False)},
+        (), (), ("atlas",), needs=("pa_frac", "frequency_hz"), check=check_atlas),
 }
 
 #: Studies whose effects are fixed: the series is of Eq. 2.6, the comparison runs both.
@@ -282,13 +339,19 @@ class _Reader:
         tolerance = self.number("tolerance", data.get("tolerance", DEFAULT_TOLERANCE),
                                 minimum=0, maximum=0.5, strict_minimum=True)
         output = self.mapping("output", data.get("output", {}), _OUTPUT)
+        figures = self.figures(output.get("figures", []), study, kind, observables)
+        if study.check is not None:
+            try:
+                study.check(Checked(options, pa_frac, frequency, parameters, figures))
+            except Invalid as error:
+                self.fail(error.key, str(error))
         return Scene(
             source=self.source,
             title=self.string("title", data.get("title", Path(self.source).stem)),
             description=self.string("description", data.get("description", "")),
             parameters=parameters, effects=effects, pa_frac=pa_frac, frequency_hz=frequency,
             study=kind, options=options, observables=observables, tolerance=tolerance,
-            figures=self.figures(output.get("figures", []), study, kind, observables),
+            figures=figures,
             json=self.file_name("output.json", output["json"]) if "json" in output else None,
             text=self.file_name("output.text", output["text"]) if "text" in output else None,
             animation=self.animation(output.get("animation"), kind),
@@ -303,7 +366,9 @@ class _Reader:
                                            f"are {', '.join(study.options) or 'none'}")
         for name, option in study.options.items():
             key, value = f"study.{name}", table.get(name, option.default)
-            options[name] = self.option(key, value, option)
+            if isinstance(value, ApiDefault):
+                value = value.value()
+            options[name] = None if value is None else self.option(key, value, option)
         return options
 
     def option(self, key: str, value, option: Option):
@@ -315,16 +380,20 @@ class _Reader:
             return value
         if option.kind == "steps" and value == "auto":
             return value
-        if option.kind == "ints":
+        if option.kind in ("ints", "floats"):
+            integer = option.kind == "ints"
             if not isinstance(value, (list, tuple)) or not value:
-                self.fail(key, f"must be a non-empty list of integers, got {value!r}")
+                self.fail(key, f"must be a non-empty list of "
+                               f"{'integers' if integer else 'numbers'}, got {value!r}")
             return tuple(self.number(f"{key}[{i}]", v, minimum=option.minimum,
-                                     maximum=option.maximum, integer=True)
+                                     maximum=option.maximum, integer=integer,
+                                     strict_minimum=option.strict_minimum)
                          for i, v in enumerate(value))
         if option.kind == "steps" and not isinstance(value, int):
             self.fail(key, f"must be \"auto\" or an integer >= {option.minimum}, got {value!r}")
         return self.number(key, value, minimum=option.minimum, maximum=option.maximum,
-                           integer=option.kind in ("int", "steps"))
+                           integer=option.kind in ("int", "steps"),
+                           strict_minimum=option.strict_minimum)
 
     def model(self, table) -> dict:
         self.mapping("model", table, ContactParameters.names())
@@ -372,6 +441,8 @@ class _Reader:
             if name not in table:
                 self.fail(f"excitation.{name}", f"is missing: a {kind} study needs it")
         fracs = table.get("pa_frac", [])
+        if isinstance(fracs, dict):
+            fracs = self.range("excitation.pa_frac", fracs, positive=False).tolist()
         fracs = fracs if isinstance(fracs, list) else [fracs]
         if "pa_frac" in study.needs and not fracs:
             self.fail("excitation.pa_frac", "must name at least one amplitude, got []")
@@ -381,20 +452,25 @@ class _Reader:
             self.fail("excitation.pa_frac", f"must not repeat an amplitude, got {list(pa_frac)}")
         return pa_frac, self.frequencies(table.get("frequency_hz", []))
 
+    def range(self, key: str, value: dict, positive: bool = True) -> np.ndarray:
+        """``count`` values evenly from ``start`` to ``stop`` (both > 0 if ``positive``,
+        else >= 0)."""
+        self.mapping(key, value, _RANGE)
+        for name in _RANGE:
+            if name not in value:
+                self.fail(f"{key}.{name}", "is missing: a range has start, stop and count")
+        start = self.number(f"{key}.start", value["start"], minimum=0, strict_minimum=positive)
+        stop = self.number(f"{key}.stop", value["stop"], minimum=0, strict_minimum=positive)
+        count = self.number(f"{key}.count", value["count"], minimum=1,
+                            maximum=MAX_FREQUENCIES, integer=True)
+        if count > 1 and not start < stop:
+            self.fail(f"{key}.stop", f"must be above start={start:g}, got {stop!r}")
+        return np.linspace(start, stop, count)
+
     def frequencies(self, value) -> np.ndarray:
         key = "excitation.frequency_hz"
         if isinstance(value, dict):
-            self.mapping(key, value, _RANGE)
-            for name in _RANGE:
-                if name not in value:
-                    self.fail(f"{key}.{name}", "is missing: a range has start, stop and count")
-            start = self.number(f"{key}.start", value["start"], minimum=0, strict_minimum=True)
-            stop = self.number(f"{key}.stop", value["stop"], minimum=0, strict_minimum=True)
-            count = self.number(f"{key}.count", value["count"], minimum=1,
-                                maximum=MAX_FREQUENCIES, integer=True)
-            if count > 1 and not start < stop:
-                self.fail(f"{key}.stop", f"must be above start={start:g}, got {stop!r}")
-            return np.linspace(start, stop, count)
+            return self.range(key, value)
         values = value if isinstance(value, list) else [value]
         if not values:
             self.fail(key, "must name at least one frequency, got []")

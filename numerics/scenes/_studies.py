@@ -144,6 +144,72 @@ def _comparison(scene, model, grid, quiet) -> StudyRun:
                               "of the full model")
 
 
+#: What the continuation studies compute, in the words of ``StudyRun.recorder``.
+_SHOOTING = ("fixed points of the RK4 period map and their monodromy matrices (the tangent "
+             "RK4 beside the state); App from one recorded period of each point")
+
+
+def _walk(options: dict) -> dict:
+    """The step control of a pseudo-arclength walk, as the API names it."""
+    return {name: options[name] for name in ("steps_per_period", "ds_max", "max_angle",
+                                             "max_points")}
+
+
+def _continuation(scene, model, grid, quiet) -> StudyRun:
+    """One ``Continuation`` per amplitude over the band ``grid`` (its two ends), or one
+    ``ForceContinuation`` per frequency over the range of ``pa_frac``."""
+    from .._continuation import continue_orbits
+    from .._force_continuation import continue_in_force
+
+    opts, walk = scene.options, _walk(scene.options)
+    if opts["continued_in"] == "pa_frac":
+        low, high = scene.pa_frac
+        runs = [continue_in_force(float(f), low, high, model=model, period=opts["period"],
+                                  quiet=quiet, **walk) for f in grid]
+        return StudyRun(runs, f"continuation in P_a: {_SHOOTING}")
+    runs = [continue_orbits(frac, float(grid[0]), float(grid[-1]), model=model,
+                            period=opts["period"], quiet=quiet, **walk)
+            for frac in scene.pa_frac]
+    if opts["switch_branches"]:
+        from .._branch_switch import with_doubled_branches
+
+        runs = [with_doubled_branches(run, quiet=quiet) for run in runs]
+    return StudyRun(runs, f"continuation in f_e: {_SHOOTING}")
+
+
+def _folds(scene, model, grid, quiet) -> StudyRun:
+    from .._folds import fold_curves
+
+    (fmin, fmax), (pa_min, pa_max) = grid, scene.pa_frac
+    folds = fold_curves(float(fmin), float(fmax), pa_min, pa_max, model=model,
+                        seed_pa_fracs=scene.options["seed_pa_fracs"], quiet=quiet,
+                        **_walk(scene.options))
+    return StudyRun([folds], "folds of period-1 orbits continued in (f_e, P_a): "
+                             "the period map's fixed points where a multiplier is +1")
+
+
+def _atlas(scene, model, grid, quiet) -> StudyRun:
+    """The ``Atlas`` of the grid (``grid`` x ``pa_frac``); with ``overlay_folds``, the
+    ``FoldCurves`` of the same box after it."""
+    from .._atlas import atlas
+
+    opts = scene.options
+    found = atlas(float(grid[0]), float(grid[-1]), scene.pa_frac[0], scene.pa_frac[-1],
+                  grid=(grid.size, len(scene.pa_frac)), workers=opts["workers"],
+                  initial_states={name: opts[name] for name in ("y_over_y0", "v_over_omega0_y0")},
+                  model=model, steps_per_period=opts["steps_per_period"], tol=opts["tol"],
+                  quiet=quiet)
+    recorder = ("the attractor census of every cell: steady states from each initial state, "
+                "their extrema and y after every step of each attractor's period")
+    if not opts["overlay_folds"]:
+        return StudyRun([found], recorder)
+    from .._folds import fold_curves
+
+    folds = fold_curves(float(grid[0]), float(grid[-1]), scene.pa_frac[0], scene.pa_frac[-1],
+                        model=model, quiet=quiet)
+    return StudyRun([found, folds], recorder + "; and the fold curves of the same box")
+
+
 _RUNNERS = {
     "sweep": _sweep,
     "attractors": _attractors,
@@ -154,6 +220,9 @@ _RUNNERS = {
     "derivation": _derivation,
     "natural_frequency": _natural_frequency,
     "comparison": _comparison,
+    "continuation": _continuation,
+    "folds": _folds,
+    "atlas": _atlas,
 }
 
 

@@ -46,6 +46,9 @@ figures: $(STAMP)
 	'docs/figures/fig2-continued.png')"
 	$(PY) -c "from numerics import attractors; from numerics.plots import plot_census; \
 	plot_census(attractors(490.0, 0.5), 'docs/figures/census-490hz.png')"
+	$(PY) -c "from numerics import atlas, fold_curves; from numerics.plots import plot_atlas; \
+	plot_atlas(atlas(1150.0, 1550.0, 0.02, 0.08, grid=(41, 16)), 'docs/figures/atlas.png', \
+	folds=fold_curves(1150.0, 1550.0, 0.02, 0.08))"
 	for scene in paper_checks/scenes/examples/*.toml; do \
 	  $(PY) -m numerics scene $$scene --quiet --out docs/figures/examples > /dev/null || exit 1; \
 	done

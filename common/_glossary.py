@@ -306,8 +306,10 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
               "", ""),
     "resonance": ("m of the resonance f_n0 / m a fold curve bounds (1 primary, 2 the 1/2 "
                   "superharmonic; 0 unknown: no cusp in the box)", "1", "Section 3"),
-    "pa_min": ("lower end of the band of P_a / Q fold curves are continued in", "1", ""),
-    "pa_max": ("upper end of the band of P_a / Q fold curves are continued in", "1", ""),
+    "pa_min": ("lower end of a range of P_a / Q (fold curves, atlas, continuation in P_a)",
+               "1", ""),
+    "pa_max": ("upper end of a range of P_a / Q (fold curves, atlas, continuation in P_a)",
+               "1", ""),
     "seed_pa_fracs": ("the P_a / Q at which folds are sought to start fold curves from", "1",
                       ""),
     # -- the stability of the series' roots (issue 13, item 3)

@@ -201,15 +201,15 @@ def atlas(
     ([[4, 4]], [1, 1, 1, 2])
     """
     model = check_model(model)
-    sizes = _grid_size(grid, 0), _grid_size(grid, 1)
+    f_axis, pa_axis = check_axes(fmin_hz, fmax_hz, pa_min, pa_max, grid)
+    sizes = f_axis[2], pa_axis[2]
     states = _states(model, initial_states)
     if sizes[0] * sizes[1] * states > MAX_LANES:  # refused before the axes are allocated
         raise ValueError(f"`grid` {sizes} with {states} initial states asks for "
                          f"{sizes[0] * sizes[1] * states} lanes, more than the limit of "
                          f"{MAX_LANES} (a bound on the work): split the grid or take fewer "
                          "initial states.")
-    frequencies = _axis("fmin_hz", fmin_hz, "fmax_hz", fmax_hz, sizes[0], True)
-    amplitudes = _axis("pa_min", pa_min, "pa_max", pa_max, sizes[1], False)
+    frequencies, amplitudes = np.linspace(*f_axis), np.linspace(*pa_axis)
     accuracy = _accuracy(steps_per_period, tol, max_periods, lyapunov_periods)
     executor, workers = _check_executor(executor, workers)
     start = time.perf_counter()
@@ -367,8 +367,15 @@ def _grid_size(grid, axis: int) -> int:
     return check_int(f"grid[{axis}]", sizes[axis], minimum=1)
 
 
-def _axis(low_name: str, low, high_name: str, high, points: int, positive: bool) -> np.ndarray:
-    """``points`` values from ``low`` to ``high``, checked (one point: equal ends)."""
+def check_axes(fmin_hz, fmax_hz, pa_min, pa_max, grid) -> tuple[tuple, tuple]:
+    """The two axes of the atlas, checked, as (low, high, points) each: the ends in order,
+    or equal with one point on the axis. A ValueError names the argument (the command
+    line tells it as its option); nothing is allocated yet."""
+    return (_axis("fmin_hz", fmin_hz, "fmax_hz", fmax_hz, _grid_size(grid, 0), True),
+            _axis("pa_min", pa_min, "pa_max", pa_max, _grid_size(grid, 1), False))
+
+
+def _axis(low_name: str, low, high_name: str, high, points: int, positive: bool) -> tuple:
     low = check_positive(low_name, low, allow_zero=not positive)
     high = check_positive(high_name, high, allow_zero=not positive)
     if points == 1 and low != high:
@@ -376,7 +383,7 @@ def _axis(low_name: str, low, high_name: str, high, points: int, positive: bool)
                          f"`grid`, got {low!r} and {high!r}.")
     if points > 1 and not low < high:
         raise ValueError(f"`{high_name}` must be above `{low_name}`, got {low!r} and {high!r}.")
-    return np.linspace(low, high, points)
+    return low, high, points
 
 
 def _accuracy(steps_per_period, tol, max_periods, lyapunov_periods) -> dict:

@@ -273,3 +273,22 @@ def test_the_bistable_cells_are_those_inside_the_fold_curves(tmp_path):
     figure = plot_atlas(found, tmp_path / "map.png", folds=folds)
     labels = [t.get_text() for t in figure.axes[0].get_legend().get_texts()]
     assert labels == ["1", "2", "folds, primary"], labels
+
+
+def test_beyond_the_fold_curves_end_the_bistable_cells_are_between_the_folds_in_f():
+    # The figure of `make figures` (docs/atlas.md): the fold curve of the primary's upper
+    # fold stops at 0.061 Q, where its orbit loses contact, yet the census still finds two
+    # attractors beyond it. At 0.068 Q continuation in f_e (the third route) has its folds
+    # at 1156.06 and 1401.44 Hz (measured); the cells with two attractors are exactly
+    # those between them (measured: the 25 cells 1160-1400 Hz; the nearest cell, 1400 Hz,
+    # is 1.4 Hz from a fold, more than the 0.5 Hz the folds may move between N = 512 and
+    # the census's N).
+    from numerics import continue_orbits
+
+    row = atlas(1150.0, 1550.0, 0.068, 0.068, grid=(41, 1))
+    low, high = sorted(b.frequency_hz for b in continue_orbits(0.068, 1100.0, 1550.0).folds())
+    f = row.frequency_hz
+    assert np.abs(f[:, None] - [low, high]).min() > 0.5
+    inside = (low < f) & (f < high)
+    assert row.attractor_count[0].tolist() == np.where(inside, 2, 1).tolist()
+    assert inside.sum() == 25

@@ -417,3 +417,145 @@ def test_continuation_in_force_refuses_bad_input():
         continue_in_force(1e7, 0.02, 0.08)
     with pytest.raises(ValueError, match="`pa_min`"):
         continue_in_force(1400.0, -0.1, 0.08)
+
+
+def test_a_period_2_start_from_rest_continues_the_orbit_born_at_the_doubling(doubling_125):
+    # Issue 13: a period-p start (period=2) from rest, where a period-2 branch exists. At
+    # 1.25 Q, below the doubling at 1557.16 Hz, the period-2 orbit coexists with a
+    # period-4 one (App 2.4 um at 1500 Hz): from rest, a march at the branch's N reaches
+    # the period-4 orbit at 1500 Hz and the period-2 one at 1550 Hz. So the walk up has no
+    # start, which its (empty) branch says, and the walk down from 1550 Hz covers the
+    # band. Two routes: it is the branch switched onto at the doubling, one period apart
+    # in phase.
+    from numerics import switch_branch
+
+    run = continue_orbits(1.25, 1500.0, 1550.0, period=2)
+    walked = [b for b in run.branches if b.frequency_hz.size]
+    assert len(walked) == 1
+    (branch,) = walked
+    assert branch.period == 2 and branch.status == Status.SUCCESS and branch.stable.all()
+    assert branch.frequency_hz.min() == 1500.0 and branch.frequency_hz.max() == 1550.0
+    for empty in (b for b in run.branches if not b.frequency_hz.size):
+        assert "no stable 2-periodic orbit reached from rest at f_e = 1500 Hz" in empty.message
+    (switched,) = switch_branch(*doubling_125).branches
+    here, there = np.argmin(branch.frequency_hz), np.argmin(switched.frequency_hz)
+    assert branch.frequency_hz[here] == switched.frequency_hz[there] == 1500.0
+    # Measured 1.8e-15 (App) and 1.5e-13 (multipliers); the allowance: both are Newton's
+    # orbit, each to 1e-10 y0 (y0 / App = 0.3 here), so they may differ by some 1e-10.
+    assert abs(branch.app_m[here] / switched.app_m[there] - 1) < 1e-9
+    assert np.allclose(np.sort_complex(branch.multipliers[here]),
+                       np.sort_complex(switched.multipliers[there]), rtol=0, atol=1e-9)
+    # The start of one is the other's after one excitation period (the same orbit, the
+    # other of its two phases): measured 9e-15 (y) and 9e-14 (v), relative; allowance as
+    # above.
+    one_period = simulate(1500.0, 1.25 * PAPER.Q_n, periods=1, record=("final",),
+                          steps_per_period=run.settings["steps_per_period"],
+                          y_init_m=branch.y_start_m[here], v_init_m_s=branch.v_start_m_s[here])
+    assert abs(one_period.y_final_m[0] / switched.y_start_m[there] - 1) < 1e-9
+    assert abs(one_period.v_final_m_s[0] / switched.v_start_m_s[there] - 1) < 1e-9
+    # Above the doubling there is no period-2 orbit: both walks say so, nothing is made up.
+    above = continue_orbits(1.25, 1560.0, 1600.0, period=2)
+    assert [b.frequency_hz.size for b in above.branches] == [0, 0]
+    assert all("no stable 2-periodic orbit" in b.message for b in above.branches)
+
+
+@pytest.fixture(scope="module")
+def force_1400():
+    from numerics import continue_in_force
+
+    return continue_in_force(1400.0, 0.02, 0.1)
+
+
+def test_the_command_line_continues_in_the_force_amplitude(force_1400, tmp_path):
+    # Issue 13, item 7, for continuation in P_a: `continue --fe` writes the same JSON as
+    # continue_in_force (same keys as in f_e, each point's P_a / Q in the branch's
+    # pa_frac), with the two folds at 1400 Hz (0.0695 and 0.0456 Q), and draws App
+    # against P_a / Q.
+    out, plot = tmp_path / "force.json", tmp_path / "force.png"
+    done = subprocess.run([sys.executable, "-m", "numerics", "continue", "--fe", "1400",
+                           "--pa-min", "0.02", "--pa-max", "0.1", "--json", str(out),
+                           "--plot", str(plot), "--quiet"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("ForceContinuation: f_e = 1400 Hz") and done.stderr == ""
+    data = json.loads(out.read_text())
+    assert data["kind"] == "ForceContinuation" and data["frequency_hz"] == 1400.0
+    assert data["settings"]["pa_min"] == 0.02 and data["settings"]["pa_max"] == 0.1
+    folds = [round(b["pa_frac"], 4) for b in data["bifurcations"] if b["kind"] == "fold"]
+    assert folds == [0.0695, 0.0456]
+    # The same computation as the function's: measured identical to the last bit (JSON
+    # keeps every digit); the allowance is the folds' locating tolerance, 1e-8 in P_a / Q.
+    from numerics._continuation import LOCATE_TOL
+
+    assert np.allclose([b["pa_frac"] for b in data["bifurcations"]],
+                       [b.pa_frac for b in force_1400.bifurcations], rtol=0, atol=LOCATE_TOL)
+    (branch,) = data["branches"]
+    assert branch["pa_frac"][0] == 0.02 and branch["pa_frac"][-1] == 0.1
+    assert set(branch["frequency_hz"]) == {1400.0}
+    assert plot.stat().st_size > 0
+    back = load(out)
+    assert back.branches[0].stable.tolist() == force_1400.branches[0].stable.tolist()
+
+
+def test_the_force_continuation_figure(force_1400, tmp_path):
+    # App against P_a / Q: the middle branch between the folds dashed, the rest solid,
+    # a marker at each fold.
+    from numerics.plots import plot_force_continuation
+
+    figure = plot_force_continuation(force_1400, tmp_path / "f.png")
+    (ax,) = figure.axes
+    assert ax.get_xlabel() == "P_a / Q" and "1400 Hz" in ax.get_title()
+    drawn = [line for line in ax.get_lines() if line.get_xdata().size > 1]
+    assert {line.get_linestyle() for line in drawn} == {"-", "--"}
+    dashed = np.concatenate([line.get_xdata() for line in drawn if line.get_linestyle() == "--"])
+    low, high = sorted(b.pa_frac for b in force_1400.bifurcations)
+    # The unstable part lies between the folds (one point either side joins the parts).
+    inside = (dashed >= low - 1e-3) & (dashed <= high + 1e-3)
+    assert inside.all(), dashed[~inside]
+    marks = [line for line in ax.get_lines() if line.get_marker() == "o"]
+    assert sorted(float(m.get_xdata()[0]) for m in marks) == [low, high]
+
+
+@pytest.mark.parametrize("options, message", [
+    (["--fe", "1400", "--pa-min", "0.1", "--pa-max", "0.02"],
+     "argument --pa-max: must be above --pa-min, got 0.1 and 0.02"),
+    (["--fe", "1e7", "--pa-min", "0.02", "--pa-max", "0.1"], "argument --fe: must lie within"),
+    (["--fe", "1400", "--pa-min", "0.02"], "argument --pa-max: required with --fe"),
+    (["--fe", "1400", "--pa-min", "0.02", "--pa-max", "0.1", "--fmax", "1500"],
+     "argument --fmax: not with --fe"),
+    (["--fe", "1400", "--pa-min", "0.02", "--pa-max", "0.1", "--series", "6"],
+     "argument --series: not with --fe"),
+    (["--pa-frac", "0.05", "--pa-min", "0.02"], "argument --pa-min: not with --pa-frac"),
+    (["--pa-frac", "0.05", "--fe", "1400"], "argument --fe: not allowed with argument --pa-frac"),
+    ([], "one of the arguments --pa-frac --fe is required"),
+])
+def test_bad_force_continuation_command_lines_exit_2_with_one_line(options, message, capsys):
+    # Checked before any work, in the command's words (the library's checks, its
+    # arguments told as options).
+    from numerics.cli import main
+
+    with pytest.raises(SystemExit) as exit_:
+        main(["continue", *options, "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert exit_.value.code == 2
+    assert err[-1].startswith("python -m numerics continue: error: ") and message in err[-1], err
+
+
+def test_continued_in_force_the_period_doubling_is_where_continuation_in_f_has_it(
+        doubling_125):
+    # Two routes to one period doubling: continuation in f_e at 1.25 Q has it at
+    # 1557.16 Hz; continuation in P_a at that f_e has it at 1.25 Q (measured within
+    # 4.6e-13 Q from 0.8 Q, 1.7e-9 Q from 0.5 Q). Allowance: each is located to 1e-8 in
+    # its parameter (LOCATE_TOL), and 1e-8 f_n0 in f_e moves it by some 8e-9 Q here
+    # (dP_a/df_e = 5e-4 Q/Hz: 1.2514 Q at 1560 Hz, 1.2725 Q at 1600 Hz).
+    from numerics import continue_in_force
+    from numerics._continuation import LOCATE_TOL
+
+    _, doubling = doubling_125
+    run = continue_in_force(doubling.frequency_hz, 0.8, 1.5)
+    (in_force,) = run.bifurcations
+    assert in_force.kind == "period-doubling"
+    assert abs(in_force.pa_frac - 1.25) < 2 * LOCATE_TOL, in_force.pa_frac - 1.25
+    assert abs(in_force.app_m / doubling.app_m - 1) < 2 * LOCATE_TOL
+    (branch,) = run.branches  # stable below the doubling, unstable above it
+    assert branch.stable[branch.pa_frac < 1.249].all()
+    assert not branch.stable[branch.pa_frac > 1.251].any()

@@ -8,6 +8,7 @@ from common import int_at_least, nonnegative_float, note, output_file
 from perturb import PAPER_PANEL_FRACTIONS, ContactModel
 from perturb._model_option import model_parameters
 
+from ._errors import option_error
 from ._steady import _accuracy_options, add_band_options, report
 
 __all__ = ["add_atlas_parser"]
@@ -38,10 +39,19 @@ def add_atlas_parser(sub) -> None:
     parser.set_defaults(run=_atlas, parser=parser)
 
 
-def _atlas(args: argparse.Namespace) -> int:
-    _check_axes(args)
-    from .._atlas import atlas
+#: The library's arguments as this command's options, for its error messages.
+OPTIONS = {"fmin_hz": "--fmin", "fmax_hz": "--fmax", "pa_min": "--pa-min",
+           "pa_max": "--pa-max", "grid": "--grid", "workers": "--workers",
+           "steps_per_period": "--steps", "tol": "--tol"}
 
+
+def _atlas(args: argparse.Namespace) -> int:
+    from .._atlas import atlas, check_axes
+
+    try:  # the axes before connecting to a scheduler
+        check_axes(args.fmin, args.fmax, args.pa_min, args.pa_max, args.grid)
+    except ValueError as error:
+        option_error(args.parser, error, OPTIONS)
     model = ContactModel(model_parameters(args))
     with _executor(args) as executor:
         try:
@@ -49,23 +59,10 @@ def _atlas(args: argparse.Namespace) -> int:
                            executor=executor, workers=args.workers, model=model,
                            steps_per_period=args.steps, tol=args.tol, quiet=args.quiet)
         except ValueError as error:  # e.g. more lanes than the limit: before any work
-            args.parser.error(str(error))
+            option_error(args.parser, error, OPTIONS)
     report(result, args, "plot_atlas")
     # Cells whose task failed are in the output, with the task's message; say so.
     return 1 if (result.status != 0).any() else 0
-
-
-def _check_axes(args: argparse.Namespace) -> None:
-    """Each axis's ends in order, or equal with one point on it (else exit 2)."""
-    for low, high, points in (("fmin", "fmax", args.grid[0]), ("pa_min", "pa_max", args.grid[1])):
-        ends = getattr(args, low), getattr(args, high)
-        names = [f"--{name.replace('_', '-')}" for name in (low, high)]
-        if points == 1 and ends[0] != ends[1]:
-            args.parser.error(f"argument {names[1]}: must equal {names[0]} with one point on "
-                              f"its axis of --grid, got {ends[0]} and {ends[1]}")
-        if points > 1 and not ends[0] < ends[1]:
-            args.parser.error(f"argument {names[1]}: must be above {names[0]}, got {ends[0]} "
-                              f"and {ends[1]}")
 
 
 class _executor:

@@ -1,24 +1,50 @@
-"""`python -m numerics continue`: periodic orbits continued in f_e at one P_a (issue 13)."""
+"""`python -m numerics continue`: periodic orbits continued through their folds, with
+stability (issue 13): in f_e at one P_a (``--pa-frac``), or in P_a at one f_e (``--fe``).
+
+One command for both: the option that fixes one parameter says which one is walked,
+and the result's JSON has the same keys either way (a ``Continuation`` or a
+``ForceContinuation``)."""
 
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
 
-from common import int_at_least, output_file, positive_float
-from perturb import EQ_2_6, FULL, ContactModel
+from common import int_at_least, nonnegative_float, output_file, positive_float
+from perturb import EQ_2_6, FULL, PAPER_BAND_HZ, ContactModel
 from perturb._model_option import add_model_option, model_parameters
 
-from ._steady import _steps, add_band_options, check_band
+from ._errors import option_error
+from ._steady import _steps, add_band_options, check_band, report
 
 __all__ = ["add_continue_parser"]
 
+#: The options of each kind of continuation (dest -> option), refused with the other.
+IN_F_ONLY = {"fmin": "--fmin", "fmax": "--fmax", "series": "--series", "switch": "--switch"}
+IN_FORCE_ONLY = {"pa_min": "--pa-min", "pa_max": "--pa-max"}
+#: The library's arguments as this command's options, for its error messages.
+OPTIONS = {"pa_frac": "--pa-frac", "fmin_hz": "--fmin", "fmax_hz": "--fmax",
+           "frequency_hz": "--fe", "pa_min": "--pa-min", "pa_max": "--pa-max",
+           "period": "--period", "steps_per_period": "--steps"}
+
 
 def add_continue_parser(sub) -> None:
-    parser = sub.add_parser("continue", help="periodic orbits continued in f_e through their "
-                            "folds, with stability (issue 13)")
-    parser.add_argument("--pa-frac", type=positive_float, required=True, help="P_a / Q")
-    add_band_options(parser)
+    parser = sub.add_parser("continue", help="periodic orbits continued through their folds, "
+                            "with stability: in f_e at one P_a (--pa-frac), or in P_a at one "
+                            "f_e (--fe) (issue 13)")
+    fixed = parser.add_mutually_exclusive_group(required=True)
+    fixed.add_argument("--pa-frac", type=positive_float,
+                       help="P_a / Q: continue in f_e, over --fmin to --fmax")
+    fixed.add_argument("--fe", type=positive_float,
+                       help="f_e [Hz]: continue in P_a, over --pa-min to --pa-max")
+    in_f = parser.add_argument_group(
+        "continuation in f_e (with --pa-frac; the band defaults to the paper's, "
+        f"{PAPER_BAND_HZ[0]:g}-{PAPER_BAND_HZ[1]:g} Hz)")
+    add_band_options(in_f)
+    parser.set_defaults(fmin=None, fmax=None)  # the paper's band, given --pa-frac
+    in_force = parser.add_argument_group("continuation in P_a (with --fe; both required)")
+    in_force.add_argument("--pa-min", type=nonnegative_float, help="least P_a / Q")
+    in_force.add_argument("--pa-max", type=positive_float, help="largest P_a / Q")
     parser.add_argument("--period", type=int_at_least(1, 8), default=1,
                         help="p of the orbit continued (default 1)")
     parser.add_argument("--steps", type=_steps, default="auto",
@@ -27,23 +53,28 @@ def add_continue_parser(sub) -> None:
     parser.add_argument("--json", metavar="FILE", type=output_file,
                         help="also write the result as JSON")
     parser.add_argument("--plot", metavar="FILE.png", type=output_file,
-                        help="App against f_e: stable solid, unstable dashed, bifurcations "
-                        "marked")
-    parser.add_argument("--series", metavar="N", type=int_at_least(0, MAX_SERIES_ORDER),
-                        help="also the order-N perturbation series (N <= "
-                        f"{MAX_SERIES_ORDER}), each root with the stability of the orbit it "
-                        "describes (issue 13, item 3); the branch continued is then the "
-                        "series' own model, Eq. 2.6, --plot draws the series over it, and "
-                        "--json FILE writes the series' stability to FILE-series.json too")
-    parser.add_argument("--switch", action="store_true",
-                        help="also continue the branch of period 2p born at each period "
-                        "doubling found (branch switching)")
+                        help="App against the parameter walked (f_e or P_a / Q): stable solid, "
+                        "unstable dashed, bifurcations marked")
+    in_f.add_argument("--series", metavar="N", type=int_at_least(0, MAX_SERIES_ORDER),
+                      help="also the order-N perturbation series (N <= "
+                      f"{MAX_SERIES_ORDER}), each root with the stability of the orbit it "
+                      "describes (issue 13, item 3); the branch continued is then the "
+                      "series' own model, Eq. 2.6, --plot draws the series over it, and "
+                      "--json FILE writes the series' stability to FILE-series.json too")
+    in_f.add_argument("--switch", action="store_true",
+                      help="also continue the branch of period 2p born at each period "
+                      "doubling found (branch switching)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     add_model_option(parser)
     parser.set_defaults(run=_continue, parser=parser)
 
 
 def _continue(args: argparse.Namespace) -> int:
+    if args.fe is not None:
+        return _continue_in_force(args)
+    _refuse(args, IN_FORCE_ONLY, "--pa-frac")
+    args.fmin = PAPER_BAND_HZ[0] if args.fmin is None else args.fmin
+    args.fmax = PAPER_BAND_HZ[1] if args.fmax is None else args.fmax
     check_band(args)
     from .._continuation import continue_orbits
 
@@ -60,7 +91,7 @@ def _continue(args: argparse.Namespace) -> int:
 
             result = with_doubled_branches(result, quiet=args.quiet)
     except ValueError as error:  # e.g. a band out of the model's reach: before any work
-        args.parser.error(str(error))
+        option_error(args.parser, error, OPTIONS)
     if args.json:
         result.to_json(args.json)
         if stability is not None:
@@ -75,7 +106,38 @@ def _continue(args: argparse.Namespace) -> int:
             plot_continuation(result, args.plot)
         else:
             plot_series_stability(stability, result, args.plot)
-    # No point continued at all (no orbit to start from): said by each branch's message.
+    return _found(result)
+
+
+def _continue_in_force(args: argparse.Namespace) -> int:
+    """--fe: the force-response curve at one f_e, from --pa-min to --pa-max."""
+    _refuse(args, IN_F_ONLY, "--fe")
+    for dest, option in IN_FORCE_ONLY.items():
+        if getattr(args, dest) is None:
+            args.parser.error(f"argument {option}: required with --fe")
+    from .._force_continuation import continue_in_force
+
+    try:
+        result = continue_in_force(args.fe, args.pa_min, args.pa_max,
+                                   model=ContactModel(model_parameters(args), FULL),
+                                   period=args.period, steps_per_period=args.steps,
+                                   quiet=args.quiet)
+    except ValueError as error:  # e.g. --pa-max below --pa-min: before any work
+        option_error(args.parser, error, OPTIONS)
+    report(result, args, "plot_force_continuation")
+    return _found(result)
+
+
+def _refuse(args: argparse.Namespace, options: dict[str, str], given: str) -> None:
+    """Exit 2 if any of ``options`` (those of the other kind of continuation) was given."""
+    for dest, option in options.items():
+        if getattr(args, dest) not in (None, False):
+            args.parser.error(f"argument {option}: not with {given}")
+
+
+def _found(result) -> int:
+    """0, or 1 where no point was continued at all (no orbit to start from: said by each
+    branch's message)."""
     return 0 if any(b.frequency_hz.size for b in result.branches) else 1
 
 

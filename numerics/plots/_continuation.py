@@ -1,4 +1,5 @@
-"""A continued branch drawn from a ``Continuation``: App against f_e, stability shown."""
+"""Continued branches drawn from a ``Continuation`` (App against f_e) or a
+``ForceContinuation`` (App against P_a / Q), stability shown."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from matplotlib.figure import Figure
 
 from ._figure import finish, new_figure
 
-__all__ = ["plot_continuation", "plot_continued_app"]
+__all__ = ["plot_continuation", "plot_continued_app", "plot_force_continuation"]
 
 _MARKS = {"fold": {"marker": "o", "color": "tab:red", "label": "fold"},
           "period-doubling": {"marker": "s", "color": "tab:blue", "label": "period doubling"}}
@@ -18,23 +19,47 @@ def plot_continuation(continuation, path=None, *, sweep=None) -> Figure:
     period doublings marked; with ``sweep`` (a ``Sweep`` at the same P_a), its points too."""
     figure, ax = new_figure((7.0, 4.2))
     _draw_branches(ax, continuation)
-    seen = set()
-    for mark in continuation.bifurcations:
-        style = dict(_MARKS[mark.kind])
-        label = style.pop("label")
-        label = None if mark.kind in seen else label
-        seen.add(mark.kind)
-        ax.semilogy([mark.frequency_hz], [mark.app_m * 1e9], ls="none", ms=5, label=label,
-                    **style)
+    _mark_bifurcations(ax, continuation.bifurcations)
     if sweep is not None:
         for run in (r for r in sweep.runs if np.isclose(r.pa_frac, continuation.pa_frac)):
             ax.semilogy(run.frequency_hz, run.app_m * 1e9, "+" if run.direction == "down"
                         else ".", ms=3, color="tab:orange", label=f"sweep {run.direction}")
+    ax.set_xlabel("f_e [Hz]")
+    ax.set_title(f"Continued periodic orbits, P_a = {continuation.pa_frac:g} Q", fontsize=10)
+    return _finish_one(figure, ax, path)
+
+
+def plot_force_continuation(continuation, path=None) -> Figure:
+    """App (log axis) against P_a / Q at one f_e, from a ``ForceContinuation``
+    (``numerics.continue_in_force``): stable parts solid, unstable parts dashed, folds
+    and period doublings marked."""
+    figure, ax = new_figure((7.0, 4.2))
+    _draw_branches(ax, continuation, along="pa_frac")
+    _mark_bifurcations(ax, continuation.bifurcations, along="pa_frac")
+    ax.set_xlabel("P_a / Q")
+    ax.set_title("Periodic orbits continued in the force amplitude, "
+                 f"f_e = {continuation.frequency_hz:g} Hz", fontsize=10)
+    return _finish_one(figure, ax, path)
+
+
+def _mark_bifurcations(ax, bifurcations, along: str = "frequency_hz") -> None:
+    """A marker at each fold and period doubling, at its ``along`` (the parameter that
+    was continued) and App; one legend entry per kind."""
+    seen = set()
+    for mark in bifurcations:
+        style = dict(_MARKS[mark.kind])
+        label = style.pop("label")
+        label = None if mark.kind in seen else label
+        seen.add(mark.kind)
+        ax.semilogy([getattr(mark, along)], [mark.app_m * 1e9], ls="none", ms=5, label=label,
+                    **style)
+
+
+def _finish_one(figure: Figure, ax, path) -> Figure:
+    """The App axis, the stability's legend entries and the grid of a one-panel figure."""
     ax.plot([], [], color="black", ls="-", label="stable")
     ax.plot([], [], color="black", ls="--", label="unstable")
-    ax.set_xlabel("f_e [Hz]")
     ax.set_ylabel("A_pp [nm]")
-    ax.set_title(f"Continued periodic orbits, P_a = {continuation.pa_frac:g} Q", fontsize=10)
     ax.grid(True, which="major", alpha=0.3)
     ax.legend(fontsize=7, loc="upper left")
     return finish(figure, path)
@@ -71,10 +96,11 @@ def plot_continued_app(continuations, path=None, *, sweep=None) -> Figure:
     return finish(figure, path)
 
 
-def _draw_branches(ax, continuation) -> None:
-    """Each branch of ``continuation``: stable parts solid, unstable parts dashed."""
+def _draw_branches(ax, continuation, along: str = "frequency_hz") -> None:
+    """Each branch of ``continuation``, App against its ``along`` (the parameter that was
+    continued: "frequency_hz" or "pa_frac"): stable parts solid, unstable parts dashed."""
     for branch in continuation.branches:
-        f, app = np.asarray(branch.frequency_hz), np.asarray(branch.app_m) * 1e9
+        f, app = np.asarray(getattr(branch, along)), np.asarray(branch.app_m) * 1e9
         for part in _runs(np.asarray(branch.stable, dtype=bool)):
             stable = bool(branch.stable[part.start])
             # One point either side joins the parts where the stability changes.

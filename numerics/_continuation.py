@@ -46,6 +46,12 @@ DEFAULTS = {"steps_per_period": "auto", "ds_max": 0.02, "max_angle": 0.1, "max_p
 #: step; at 0.15 Q, N = 128 shows zigzags of f by 0.27 Hz on the bouncing middle branch
 #: (taken for folds) and stops at 398 Hz, N = 512 none and reaches 355 Hz.
 _AUTO_MIN_STEPS = 512
+#: "auto" doubles N, up to this, while a walk stops inside the band at a corner: at 0.15 Q
+#: the walks stop 19 Hz apart near the bouncing fold at 512 steps, and the branch passes
+#: it (the fold at 352.4 Hz, where a 1024-step sweep jumps) at 1024.
+_AUTO_MAX_STEPS = 2048
+#: How the message of a walk that stopped at a corner begins.
+_STUCK = "step below"
 _DS_START = 1e-3  # the first step, in z
 _DS_MIN = 1e-9  # below it the continuation gives up
 _GROW, _SHRINK = 1.5, 0.5
@@ -201,7 +207,8 @@ def continue_orbits(
     steps_per_period : int or "auto"
         N, fixed along the branch (so that the period map is smooth in f_e); "auto"
         takes ``steady_states``' choice at ``fmin_hz`` (the finest of the band), but at
-        least 512.
+        least 512, and walks again at twice N (up to 2048) while a walk stops inside the
+        band at a corner of the map (``settings["steps_per_period"]`` says which N).
     ds_max : float
         Largest step along the branch, in the scaled unknowns z.
     max_angle : float
@@ -241,10 +248,10 @@ def continue_orbits(
     steps = branch_steps(steps_per_period, fmin_hz, numbers)
     start = time.perf_counter()
     p_a = pa_frac * model.parameters.Q_n
-    shoot = PeriodMap(model, p_a, steps, period, engine)
-    branches, bifurcations = walk_band(shoot, model, fmin_hz, fmax_hz, ds_max, max_angle,
-                                       max_points, quiet)
-    settings = {"fmin_hz": fmin_hz, "fmax_hz": fmax_hz, "steps_per_period": steps,
+    shoot, branches, bifurcations = walk_finest(
+        lambda n: PeriodMap(model, p_a, n, period, engine), steps, steps_per_period == "auto",
+        model, fmin_hz, fmax_hz, ds_max, max_angle, max_points, quiet)
+    settings = {"fmin_hz": fmin_hz, "fmax_hz": fmax_hz, "steps_per_period": shoot.steps,
                 "ds_max": ds_max, "max_angle": max_angle, "max_points": max_points,
                 "engine": "python" if shoot.walker is None else "compiled"}
     return Continuation(pa_frac=pa_frac, branches=branches, bifurcations=bifurcations,
@@ -288,6 +295,22 @@ def count_kinds(bifurcations: list[Bifurcation]) -> str:
     return f"{counts['fold']} folds, {counts['period-doubling']} period doublings"
 
 
+def walk_finest(make_shoot, steps: int, auto: bool, model, low: float, high: float, ds_max,
+                max_angle, max_points, quiet):
+    """``walk_band`` on the map ``make_shoot(steps)``; if ``auto``, again at twice the steps
+    while a walk stops inside the band at a corner that Newton cannot pass (the map's
+    corners shrink with the step), up to ``_AUTO_MAX_STEPS``: (the map, the branches, the
+    bifurcations) of the last walk."""
+    while True:
+        shoot = make_shoot(steps)
+        branches, bifurcations = walk_band(shoot, model, low, high, ds_max, max_angle,
+                                           max_points, quiet)
+        stuck = any(b.message.startswith(_STUCK) for b in branches)
+        if not (auto and stuck and 2 * steps <= _AUTO_MAX_STEPS):
+            return shoot, branches, bifurcations
+        steps *= 2
+
+
 def walk_band(shoot: PeriodMap, model, low: float, high: float, ds_max, max_angle,
               max_points, quiet) -> tuple[list[ContinuedBranch], list[Bifurcation]]:
     """The branch through the stable orbit reached from rest at the band's lower end
@@ -311,10 +334,10 @@ def _walk_from(shoot, model, fmin_hz, fmax_hz, direction, bar, ds_max, max_angle
     (``direction`` +1, walked up in f) or upper end (-1, walked down)."""
     f_start = fmin_hz if direction > 0 else fmax_hz
     walk = _Walk(shoot, fmin_hz, fmax_hz, direction, ds_max, max_angle, max_points, bar)
-    first = _first_point(shoot, model, f_start)
+    first, reached = _first_point(shoot, model, f_start)
     if first is None:
         walk.end(Status.FAILED, f"no stable {shoot.period}-periodic orbit reached from rest "
-                 f"at {shoot.label(shoot.scaled(0.0, 0.0, f_start))} to start from")
+                 f"at {shoot.label(shoot.scaled(0.0, 0.0, f_start))} to start from ({reached})")
     else:
         walk.run(first)
     return walk
@@ -341,16 +364,20 @@ class _Coverage:
         self.bar.close()
 
 
-def _first_point(shoot: PeriodMap, model, value: float) -> Point | None:
+def _first_point(shoot: PeriodMap, model, value: float) -> tuple[Point | None, str]:
     """The stable orbit reached from rest where the parameter is ``value`` (time marching,
-    then Newton at our N), polished at that value; None if none of period p is reached."""
+    then Newton at our N), polished at that value, or None if none of period p is
+    reached; and what the march reached, for a message."""
     (f_hz,), (p_a,) = shoot.drives([value])
     state = steady_states(f_hz, p_a, model=model, steps_per_period=shoot.steps, app_rtol=None,
                           refinements=0)
-    if not (state.settled[0] and state.period[0] == shoot.period):
-        return None
+    if not state.settled[0]:
+        return None, "the march from rest did not settle"
+    if state.period[0] != shoot.period:
+        return None, f"the march from rest settled on period {int(state.period[0])}"
     z = shoot.scaled(state.y_start_m[0], state.v_start_m_s[0], value)
-    return shoot.correct(z, np.array([0.0, 0.0, 1.0]), z[2])
+    point = shoot.correct(z, _E_F, z[2])
+    return point, "" if point else "Newton did not polish the orbit the march reached"
 
 
 class _Walk:
@@ -367,6 +394,7 @@ class _Walk:
         self.orientation = 1.0  # the sign of det([J; t]) along the branch
         self.resume: float | None = None  # the step to resume with after a corner
         self.from_edge = True  # started at the band's edge (not off a bifurcation)
+        self.natural_steps = 0  # steps in the parameter alone, past corners
         # The walk's numbers for the compiled steps, in _walk_template's order.
         self.settings = np.array([_DS_MIN, ds_max, max_angle, _GROW, _SHRINK, _CORNER_DS,
                                   _EASY_ITERATIONS, *shoot.newton_settings(), self.f_lo,
@@ -396,7 +424,9 @@ class _Walk:
                 if step is _PLAIN:  # plain points kept, none needing Python: walk on
                     continue
             if step is None:
-                self.end(Status.FAILED, f"step below {_DS_MIN:g} at "
+                step = self._natural_step()
+            if step is None:
+                self.end(Status.FAILED, f"{_STUCK} {_DS_MIN:g} at "
                          f"{self.shoot.label(self.points[-1].z)}: Newton does not converge there")
                 break
             point, t, ds = step
@@ -406,6 +436,36 @@ class _Walk:
                 break
             self._keep(point, t)
             self.bar.update(point.z[2] * self.shoot.scale[2], self.direction)
+
+    def _natural_step(self):
+        """Past a corner that the arclength step cannot pass: a step in the parameter alone
+        (Newton at a fixed f, from the last orbit), on in the walk's direction of f, as
+        ``_step`` gives it; None if no short one converges near the last point.
+
+        Where the map's corners crowd (the orbit landing and taking off within a step,
+        loss of contact), the branch in z turns sharply at each, and at some the one-sided
+        Jacobians send the bordered Newton off on both sides at any ds. Newton at a fixed
+        f a little further converges (at 0.15 Q, near 368.6 Hz, in 5 iterations). The step
+        is taken only where the orbit moves little (``_NATURAL_REACH``), so that it does not
+        jump to another branch; at most ``_NATURAL_STEPS`` times in a walk.
+        """
+        if self.natural_steps >= _NATURAL_STEPS:
+            return None
+        last = self.points[-1].z
+        sign = np.sign(self.tangents[-1][2]) or self.direction
+        for df in _NATURAL_DF:
+            target = last[2] + sign * df
+            point = self.shoot.correct(np.array([last[0], last[1], target]), _E_F, target)
+            if point is None or not np.abs(point.z - last).max() <= _NATURAL_REACH:
+                continue
+            self.natural_steps += 1
+            chord = (point.z - last) / np.linalg.norm(point.z - last)
+            t = point.tangent(chord, 1.0)
+            t = t if t @ chord > 0 else -t  # on along the chord: the branch's new orientation
+            self.orientation = point.orientation(t) or 1.0
+            self.resume = None
+            return point, t, _DS_START
+        return None
 
     def _compiled_steps(self, ds: float):
         """``_step`` repeated in compiled code (``_walk_template.walk_steps``), keeping
@@ -529,6 +589,14 @@ _BAND_OF_F_N0 = (1e-4, 1e2)
 class _NotLocated(Exception):
     pass
 
+
+#: The steps in the parameter alone that ``_Walk._natural_step`` tries (in z: 1e-5 f_n0 is
+#: 0.015 Hz on the paper's model), how far the orbit may move in one (in z), and how many
+#: a walk may take.
+_NATURAL_DF = (1e-5, 3e-5, 1e-4)
+_NATURAL_REACH = 0.05
+_NATURAL_STEPS = 100
+_E_F = np.array([0.0, 0.0, 1.0])
 
 #: Points that one compiled call walks at most, so that the progress bar moves (and
 #: Ctrl-C is heard) between calls; _PLAIN says that a call kept only plain points.

@@ -17,14 +17,14 @@ from common import Result, check_positive, result
 from perturb import ContactModel, eq26_numbers
 
 from ._continuation import (
-    _BAND_OF_F_N0,
     DEFAULTS,
     Bifurcation,
     ContinuedBranch,
     branch_steps,
+    check_band,
     check_walk,
     count_kinds,
-    walk_band,
+    walk_finest,
 )
 from ._continuation_map import ForceMap
 from ._simulate import check_model
@@ -117,18 +117,14 @@ def continue_in_force(
     if not pa_min < pa_max:
         raise ValueError(f"`pa_max` must be above `pa_min`, got {pa_min!r} and {pa_max!r}.")
     ds_max, max_angle, max_points = check_walk(period, ds_max, max_angle, max_points)
-    numbers = eq26_numbers(model.parameters)
-    low, high = _BAND_OF_F_N0[0] * numbers.f_n0_hz, _BAND_OF_F_N0[1] * numbers.f_n0_hz
-    if not low <= f_e <= high:
-        raise ValueError(f"`frequency_hz` must lie within {low:.3g}-{high:.3g} Hz "
-                         f"({_BAND_OF_F_N0[0]:g} to {_BAND_OF_F_N0[1]:g} f_n0), got {f_e!r}.")
-    steps = branch_steps(steps_per_period, f_e, numbers)
+    check_band("frequency_hz", f_e, model.parameters)
+    steps = branch_steps(steps_per_period, f_e, eq26_numbers(model.parameters))
     start = time.perf_counter()
-    shoot = ForceMap(model, f_e, steps, period)
     q = model.parameters.Q_n
-    branches, bifurcations = walk_band(shoot, model, pa_min * q, pa_max * q, ds_max,
-                                       max_angle, max_points, quiet)
-    settings = {"pa_min": pa_min, "pa_max": pa_max, "steps_per_period": steps,
+    shoot, branches, bifurcations = walk_finest(
+        lambda n: ForceMap(model, f_e, n, period), steps, steps_per_period == "auto", model,
+        pa_min * q, pa_max * q, ds_max, max_angle, max_points, quiet)
+    settings = {"pa_min": pa_min, "pa_max": pa_max, "steps_per_period": shoot.steps,
                 "ds_max": ds_max, "max_angle": max_angle, "max_points": max_points}
     return ForceContinuation(frequency_hz=f_e, branches=branches, bifurcations=bifurcations,
                              model=model.as_dict(), settings=settings,

@@ -81,24 +81,28 @@ def test_every_stable_sweep_state_at_005q_lies_on_a_stable_branch(band_005):
         assert worst < 5e-3, (run.direction, worst)
 
 
-def test_every_stable_sweep_state_at_015q_lies_on_a_stable_branch_but_in_the_gap():
-    # At 0.15 Q the walk up (through the fold at 1332.8 Hz, back along the middle branch
-    # of bouncing orbits) and the walk down (the upper branch) each stop at a corner of
-    # the piecewise smooth map near the bouncing fold, some 352 Hz (measured: the walk
-    # up at 355.4 Hz, the walk down at 374.1 Hz). Known gap: the states in it are
-    # skipped, everything else must match (measured: 0.15 % at most).
+def test_the_015q_branch_passes_the_bouncing_fold_and_holds_every_stable_sweep_state():
+    # At 512 steps the walk up (through the fold at 1332.8 Hz, back along the middle
+    # branch of bouncing orbits) and the walk down (the upper branch) stop 19 Hz apart at
+    # corners of the piecewise smooth map near the bouncing fold; "auto" walks again at
+    # 1024 steps, where the branch is whole: one branch, the bouncing fold at 352.4 Hz.
+    # The 5 Hz sweep down (at its own, coarser N) jumps off that branch at 355 Hz: the
+    # fold within one grid step of the jump (measured 2.6 Hz). Every settled sweep state
+    # lies on a stable continued branch (measured: 0.15 % at most; the sweep's App
+    # tolerance is 0.5 %).
     run = continue_orbits(0.15, 250.0, 1800.0)
-    assert len(run.branches) == 2
-    ends = sorted(b.frequency_hz[-1] if i == 0 else b.frequency_hz[0]
-                  for i, b in enumerate(run.branches))
-    assert ends[1] - ends[0] < 25.0, ends
+    assert run.settings["steps_per_period"] == 1024
+    (branch,) = run.branches
+    assert branch.status == Status.SUCCESS
+    assert [round(b.frequency_hz) for b in run.folds()] == [1333, 352]
     runs = sweep(np.arange(250.0, 1800.5, 5.0), 0.15)
+    down = runs.run(0.15, "down")
+    jumps = [float(down.frequency_hz[j]) for j in down.jumps()]
+    assert any(abs(f - run.folds()[1].frequency_hz) <= 5.0 for f in jumps), jumps
     for sweep_run in runs.runs:
-        worst, missing = _worst_mismatch(run, sweep_run,
-                                         skip=lambda f: ends[0] - 5 <= f <= ends[1])
+        worst, missing = _worst_mismatch(run, sweep_run)
         assert not missing, (sweep_run.direction, missing)
-        assert worst < 5e-3, (sweep_run.direction, worst)
-    assert [round(b.frequency_hz) for b in run.folds()] == [1333]
+        assert worst < 2e-3, (sweep_run.direction, worst)
 
 
 def test_the_middle_branch_is_unstable_and_an_orbit_on_it_really_leaves(primary_005):

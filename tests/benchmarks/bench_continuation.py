@@ -1,10 +1,15 @@
 """Continuation of the whole primary branch at 0.15 Q, 250-1800 Hz, with stability.
 
-Issue 13's goal: under 0.5 s once compiled. Baseline, measured in the same run: the
-sweep up and down of the same band on a 5 Hz grid (311 points each way), which sees
-only the stable parts. Medians of interleaved repeats, warm (kernels compiled).
-The continuation package pycont-lite (issue 13 asks for it beside) is not a dependency
-of the project: not run here (see docs/continuation.md).
+Issue 13's goal: under 0.5 s once compiled. Baselines, measured in the same run:
+- the sweep up and down of the same band on a 5 Hz grid (311 points each way), which
+  sees only the stable parts;
+- continuation packages from the package index, pycont-lite and contique, driving
+  ``continue_orbits``' own shooting residual from the same start points over the same
+  band (``_pycont``): their time, residual calls, the points they reached and how far
+  those are from the branch (|R|), the folds they reported and how each walk ended,
+  and one run of each with another setting. They are not dependencies: when one is not
+  installed, one line says how to install it.
+Medians of interleaved repeats, warm (kernels compiled).
 """
 
 from __future__ import annotations
@@ -12,29 +17,126 @@ from __future__ import annotations
 import numpy as np
 
 from numerics import continue_orbits, sweep
+from perturb import ContactModel
 
+from ._pycont import (
+    INSTALL,
+    contique_walks,
+    installed_version,
+    period_map,
+    pycont_walks,
+    residual_calls,
+    residual_norms,
+)
 from ._timing import header, interleaved_medians, row
 
 PA_FRAC, BAND = 0.15, (250.0, 1800.0)
 GRID = np.arange(BAND[0], BAND[1] + 0.5, 5.0)
+PACKAGE_REPEATS = 3  # a pycont-lite run takes 15 to 20 s here
+PACKAGES = (("pycont-lite", "pycont_lite"), ("contique", "contique"))  # name, distribution
+
+
+def _continue():
+    return continue_orbits(PA_FRAC, *BAND)
 
 
 def main() -> None:
-    run = continue_orbits(PA_FRAC, *BAND)  # compile / load the kernels
+    run = _continue()  # compile / load the kernels
     sweep(GRID, PA_FRAC)
-    continued, swept = interleaved_medians(lambda: continue_orbits(PA_FRAC, *BAND),
-                                           lambda: sweep(GRID, PA_FRAC), repeats=5)
+    continued, swept = interleaved_medians(_continue, lambda: sweep(GRID, PA_FRAC), repeats=5)
     header(f"Continuation at {PA_FRAC} Q, {BAND[0]:g}-{BAND[1]:g} Hz (warm, medians of 5)")
     row("continue_orbits [s] vs sweep up+down, 5 Hz [s]", continued, swept, "s",
         higher_is_better=False)
     row("continue_orbits [s] vs the goal of 0.5 s", continued, 0.5, "s",
         higher_is_better=False)
+    steps = run.settings["steps_per_period"]
+    row("N steps per period the branch took ('auto')", steps)
+    compiled, python = interleaved_medians(
+        lambda: continue_orbits(PA_FRAC, *BAND, steps_per_period=512),
+        lambda: continue_orbits(PA_FRAC, *BAND, steps_per_period=512, engine="python"),
+        repeats=3)
+    row("the walk at N = 512: compiled [s] vs Python (engine='python') [s]", compiled, python,
+        "s", higher_is_better=False)
     points = sum(b.frequency_hz.size for b in run.branches)
     row("points on the continued branches", points)
     for branch in run.branches:
-        print(f"  {branch.summary()}")
+        f = branch.frequency_hz
+        print(f"  {branch.summary()}; f {f.min():.3f}-{f.max():.3f} Hz")
     for mark in run.bifurcations:
         print(f"  {mark.kind} at {mark.frequency_hz:.4f} Hz, App {mark.app_m * 1e9:.2f} nm")
+    _beside_packages(run)
+
+
+def _beside_packages(run) -> None:
+    """The continuation packages on the same residual, start points and band as ``run``;
+    one line for those not installed."""
+    versions = {name: installed_version(distribution) for name, distribution in PACKAGES}
+    missing = [name for name, version in versions.items() if version is None]
+    if missing:
+        print(f"\n{' and '.join(missing)} not installed, so not run beside continue_orbits: "
+              f"{INSTALL}")
+    if len(missing) == len(versions):
+        return
+    model = ContactModel()
+    shoot = period_map(model, PA_FRAC, run.settings["steps_per_period"])
+    ours_z = np.vstack([np.column_stack([b.y_start_m, b.v_start_m_s, b.frequency_hz])
+                        for b in run.branches]) / shoot.scale
+    # The compiled walk evaluates R out of Python's sight: its calls are counted on the
+    # Python walk, the reference that takes the same steps (engine="python").
+    python_walk_calls = residual_calls(lambda: continue_orbits(PA_FRAC, *BAND, engine="python"))
+    ours = {"points": sum(b.frequency_hz.size for b in run.branches),
+            "calls": python_walk_calls,
+            "largest |R|": residual_norms(shoot, ours_z).max(initial=0.0),
+            "folds": ", ".join(f"{b.frequency_hz:.3f}" for b in run.folds()) or "none"}
+    runs = _runs(shoot, model, run.settings["ds_max"])
+    for name, version in versions.items():
+        if version is not None:
+            compared, setting, other = runs[name]
+            _beside(name, version, compared, ours, shoot)
+            other_run = other()
+            print(f"  {name}, {setting}, one run of {other_run.elapsed_s:.3g} s:")
+            for walk in other_run.walks:
+                print(f"    {walk.describe(shoot.scale[2])}")
+
+
+def _runs(shoot, model, ds_max: float) -> dict:
+    """Per package: the compared run (continue_orbits' settings where they have the same
+    knob), and one run with another setting, named."""
+    quarter = ds_max / 4
+    return {
+        "pycont-lite": (lambda: pycont_walks(shoot, model, *BAND),
+                        "its branch-point test on (its default)",
+                        lambda: pycont_walks(shoot, model, *BAND, bifurcation_detection=True)),
+        "contique": (lambda: contique_walks(shoot, model, *BAND),
+                     f"its step cap {quarter:g} (a quarter of ds_max)",
+                     lambda: contique_walks(shoot, model, *BAND, step_max=quarter)),
+    }
+
+
+def _beside(name: str, version: str, theirs, ours: dict, shoot) -> None:
+    """One package's time, residual calls, points and their |R|, folds and walks, each
+    beside ``continue_orbits``' (``ours``)."""
+    run = theirs()  # its imports, and the run whose points are shown
+    ours_s, theirs_s = interleaved_medians(_continue, theirs, repeats=PACKAGE_REPEATS)
+    header(f"The same branch by {name} {version}: same residual, start points, band "
+           f"(warm, medians of {PACKAGE_REPEATS})")
+    row(f"continue_orbits [s] vs {name} [s]", ours_s, theirs_s, "s", higher_is_better=False)
+    row(f"R calls: ours (its Python walk) vs {name}", ours["calls"], run.evaluations,
+        higher_is_better=False)
+    row(f"points reached: continue_orbits vs {name}", ours["points"],
+        sum(w.points for w in run.walks), ratio=False)
+    row(f"largest |R| at the points [z]: ours vs {name}", ours["largest |R|"],
+        residual_norms(shoot, run.z).max(initial=0.0), ratio=False)
+    folds = run.folds_z
+    theirs_folds = "none"
+    if folds.size and run.walks[0].folds_are == "folds (LP)":
+        theirs_folds = (f"{', '.join(f'{z[2] * shoot.scale[2]:.3f}' for z in folds)} Hz, |R| "
+                        f"there {', '.join(f'{n:.1e}' for n in residual_norms(shoot, folds))}")
+    elif folds.size:
+        theirs_folds = f"none reported ({run.walks[0].folds_are} below)"
+    print(f"  folds at {PA_FRAC} Q: continue_orbits {ours['folds']} Hz; {name} {theirs_folds}")
+    for walk in run.walks:
+        print(f"  {name} {walk.describe(shoot.scale[2])}")
 
 
 if __name__ == "__main__":

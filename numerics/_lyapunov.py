@@ -259,7 +259,7 @@ def largest_lyapunov(
     for count in np.unique(steps):
         group = np.flatnonzero(steps == count)
         lanes = Lanes(model, f_e[group], pa[group] * numbers.Q_n, int(count))
-        yg, vg, sums, failed = _benettin(lanes, y[group], v[group], _velocity_scale(numbers, f_e),
+        yg, vg, sums, failed = _benettin(lanes, y[group], v[group], _velocity_scale(numbers),
                                          periods, discard, blocks)
         y[group], v[group], growth[group] = yg, vg, sums
         status[group[failed >= 0]] = Status.FAILED
@@ -317,11 +317,12 @@ def _mean_and_error(block_rate: np.ndarray, frequency_hz: np.ndarray, periods: i
     return mean, np.maximum.reduce([standard_error, drift, regular_bias])
 
 
-def _velocity_scale(numbers, frequency_hz: np.ndarray) -> float:
+def _velocity_scale(numbers) -> float:
     """The velocity that weighs a tangent's v against its y: omega0 (the norm is then
-    nearly constant over an oscillation of the linearised contact), or the drive's
-    angular frequency for a model with no static contact (no gravity: omega0 = 0)."""
-    return numbers.omega0_rad_s if numbers.omega0_rad_s > 0 else 2 * np.pi * frequency_hz.max()
+    nearly constant over an oscillation of the linearised contact). It is the same for
+    every lane, so that a lane's exponent does not depend on the lanes beside it;
+    omega0 > 0 for every model, since ``ContactParameters`` asks g > 0."""
+    return numbers.omega0_rad_s
 
 
 def _lane_steps(steps_per_period, frequency_hz: np.ndarray, rate_per_s: float) -> np.ndarray:

@@ -3,13 +3,16 @@ it repeats (``engine="python"``, the reference)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
-from numerics import continue_orbits
+from numerics import _codegen, _walk_codegen, continue_orbits
 from numerics._continuation import walk_band
 from numerics._continuation_map import ForceMap
-from perturb import ContactModel
+from numerics._walk_codegen import compiled_walk
+from perturb import LINEAR, ContactModel
 
 
 @pytest.fixture(scope="module")
@@ -57,3 +60,19 @@ def test_the_compiled_walk_continues_in_the_force_amplitude_as_python_does():
 def test_an_unknown_engine_is_refused():
     with pytest.raises(ValueError, match="engine"):
         continue_orbits(0.05, 1300.0, 1600.0, engine="fortran")
+
+
+@pytest.mark.slow
+def test_a_damaged_walk_file_is_written_and_compiled_again(tmp_path, monkeypatch):
+    # Slow: compiles the linear model's kernels and walk into an empty cache (some 25 s).
+    monkeypatch.setenv("CONTACT_RESONANCES_CACHE", str(tmp_path))
+    monkeypatch.setattr(_codegen, "_LOADED", {})
+    monkeypatch.setattr(_walk_codegen, "_LOADED", {})
+    model = ContactModel(effects=LINEAR)
+    path = Path(compiled_walk(model).__file__)
+    path.write_text(path.read_text()[:200])  # truncated: a crash while writing
+    monkeypatch.setattr(_walk_codegen, "_LOADED", {})
+    walk = compiled_walk(model)
+    assert Path(walk.__file__) == path and _codegen._intact(path)
+    run = continue_orbits(0.02, 1300.0, 1600.0, model=model)
+    assert run.settings["engine"] == "compiled" and run.branches[0].status == 0

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from numerics.plots._figure import finish
+from numerics.plots._figure import finish, fixed_layout
 
 from ._scene import CENSUS_SCENES, WORK_PRECISION_FIGURE, PaperScene
 from ._work_precision import WorkPrecision
@@ -35,7 +35,7 @@ SCENE_FIGURES = {
 
 def plot_work_precision(result: WorkPrecision, path=None) -> Figure:
     """Error against time, log-log, one line per method, each point labelled."""
-    figure = Figure(figsize=(6.4, 4.6), layout="constrained")
+    figure = Figure(figsize=(6.4, 4.6))
     ax = figure.add_subplot()
     styles = {"RK4": "o-", "series": "s-", "DOP853": "^--"}
     for method in result.methods:
@@ -51,6 +51,8 @@ def plot_work_precision(result: WorkPrecision, path=None) -> Figure:
     ax.set_title("What accuracy costs", fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7)
+    # The margins [in] as constrained layout placed them (2026-11-23).
+    fixed_layout(figure, [[ax]], right=0.074, top=0.232, bottom=0.501)
     return finish(figure, path)
 
 

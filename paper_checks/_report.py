@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from common import write_json
+from numerics._atlas import default_workers
 from numerics._compare_table import format_comparison
 from numerics.cli._info import format_info
 from perturb import text_report
@@ -15,7 +16,7 @@ from perturb import text_report
 from ._claims import Claim
 from ._figures import draw_figures
 from ._registry import run_claims
-from ._scene import PaperScene, default_jobs, worker_pool
+from ._scene import PaperScene, worker_pool
 
 __all__ = ["write_report"]
 
@@ -93,7 +94,7 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
     """
     start = time.perf_counter() if started is None else started
     scene = PaperScene(quick=quick, out=out)
-    with worker_pool(default_jobs() if jobs is None else jobs) as pool:
+    with worker_pool(default_workers() if jobs is None else jobs) as pool:
         if pool is not None:
             scene.start(pool)
         claims = run_claims(scene)

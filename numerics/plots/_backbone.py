@@ -7,12 +7,16 @@ from typing import TYPE_CHECKING
 
 from matplotlib.figure import Figure
 
-from ._figure import finish, new_figure
+from ._figure import finish, fixed_layout, new_figure
 
 if TYPE_CHECKING:  # the exact backbone imports scipy.optimize: not for every figure
     from .._backbone import Backbone
 
 __all__ = ["plot_backbone"]
+
+#: The margins [in] (``fixed_layout``), as constrained layout placed them (2026-11-23):
+#: on the right, room for the last x tick label; the title above; the labels below.
+_MARGINS_IN = {"right": 0.134, "top": 0.252, "bottom": 0.501}
 
 
 def plot_backbone(backbone: Backbone, path: str | Path | None = None) -> Figure:
@@ -25,7 +29,7 @@ def plot_backbone(backbone: Backbone, path: str | Path | None = None) -> Figure:
     >>> figure.axes[0].get_xlabel()
     'amplitude [nm]'
     """
-    figure, ax = new_figure()
+    figure, ax = new_figure(layout=None)
     ax.semilogx(backbone.app_m * 1e9, backbone.frequency_hz, label="peak-to-peak $A_{pp}$")
     ax.semilogx(backbone.a1_m * 1e9, backbone.frequency_hz, "--", label="fundamental $a_1$")
     ax.axhline(backbone.f_n0_hz, color="0.6", lw=0.8)
@@ -35,4 +39,5 @@ def plot_backbone(backbone: Backbone, path: str | Path | None = None) -> Figure:
     ax.set_ylabel("frequency of free oscillation [Hz]")
     ax.set_title("Exact backbone of the conservative model")
     ax.legend(loc="lower left")
+    fixed_layout(figure, [[ax]], **_MARGINS_IN)
     return finish(figure, path)

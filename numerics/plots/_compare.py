@@ -11,9 +11,14 @@ from perturb import ContactModel
 
 from .._backbone import Backbone, exact_backbone
 from .._compare import Comparison
-from ._figure import finish, panel_title
+from ._figure import finish, fixed_layout, panel_title
 
 __all__ = ["plot_comparison"]
+
+#: The panels' margins [in] (``fixed_layout``), as constrained layout placed them
+#: (2026-11-23): room for the last x tick label, a title above each panel, the x tick
+#: labels and label below each.
+_MARGINS_IN = {"right": 0.115, "top": 0.252, "bottom": 0.473, "row_gap": 0.767}
 
 
 def _backbone_errors(ax, comparison: Comparison) -> None:
@@ -127,12 +132,13 @@ def plot_comparison(comparison: Comparison, path: str | Path | None = None, *,
     """
     panels = 1 + len(comparison.pa_frac)
     backbone = _covering_backbone(comparison, backbone)
-    figure = Figure(figsize=(6.0 * min(panels, 2), 4.2 * ((panels + 1) // 2)),
-                    layout="constrained")
-    axes = figure.subplots((panels + 1) // 2, min(panels, 2), squeeze=False).ravel()
+    figure = Figure(figsize=(6.0 * min(panels, 2), 4.2 * ((panels + 1) // 2)))
+    grid = figure.subplots((panels + 1) // 2, min(panels, 2), squeeze=False)
+    axes = grid.ravel()
     _backbone_errors(axes[0], comparison)
     for ax, pa_frac in zip(axes[1:], comparison.pa_frac):
         _responses(ax, comparison, pa_frac, backbone)
     for ax in axes[panels:]:
         ax.set_visible(False)
+    fixed_layout(figure, grid, **_MARGINS_IN)
     return finish(figure, path)

@@ -9,15 +9,24 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import Locator
 
-__all__ = ["new_figure", "finish", "panel_title", "DPI"]
+__all__ = ["new_figure", "finish", "panel_title", "fixed_layout", "DPI", "EDGE_PAD_IN"]
 
 #: Resolution of the saved figures [dots per inch].
 DPI = 150
+#: Room left of a y axis for its label and pads, beside its widest tick label [in]:
+#: constrained layout left 0.328 to 0.340 in there on the report's figures (10 pt
+#: labels), measured 2026-11-23.
+Y_LABEL_ROOM_IN = 0.335
+#: Constrained layout's padding around each axes and at the figure's edge [in] (3 pt).
+EDGE_PAD_IN = 3 / 72
 
 
-def new_figure(size=(6.0, 4.2)) -> tuple[Figure, object]:
-    """A figure with one axes; pyplot is never touched, so no backend is switched."""
-    figure = Figure(figsize=size, layout="constrained")
+def new_figure(size=(6.0, 4.2), layout: str | None = "constrained") -> tuple[Figure, object]:
+    """A figure with one axes; pyplot is never touched, so no backend is switched.
+
+    ``layout=None`` leaves the axes to be placed by ``fixed_layout``.
+    """
+    figure = Figure(figsize=size, layout=layout)
     return figure, figure.add_subplot()
 
 
@@ -31,6 +40,58 @@ def panel_title(ax, text: str, **kwargs) -> None:
     files equal.
     """
     ax.set_title(text, y=1.0, **kwargs)
+
+
+def fixed_layout(figure: Figure, grid, *, right: float, top: float, bottom: float,
+                 row_gap: float = 0.0) -> None:
+    """Place a grid of axes of equal size, margins given in inches, without a layout engine.
+
+    ``grid`` holds the axes by row and column. Each column starts
+    ``Y_LABEL_ROOM_IN`` plus its widest y tick label right of the column before it
+    (that one's right margin ``right`` and a pad between): the part of a margin that
+    depends on the data. ``top`` (titles), ``bottom`` (x tick labels and label) and
+    ``row_gap`` hold text of fixed height, measured for each figure on its constrained
+    layout. Constrained layout measures every tick label of every axes in two passes
+    to find the same places; ``tests/test_plots.py`` checks that no label leaves the
+    figure or overlaps another axes, and ``bench_paper.py`` times the difference.
+    """
+    grid = np.asarray(grid, dtype=object).reshape(np.shape(grid)[0], -1)
+    width, height = figure.get_size_inches()
+    figure.set_layout_engine(None)
+    lefts = [Y_LABEL_ROOM_IN + max(_widest_tick_label_in(ax.yaxis) for ax in column
+                                   if ax.get_visible()) for column in grid.T]
+    gaps = [right + EDGE_PAD_IN + left for left in lefts[1:]]
+    axes_width = (width - lefts[0] - right - sum(gaps)) / grid.shape[1]
+    axes_height = (height - top - bottom - row_gap * (grid.shape[0] - 1)) / grid.shape[0]
+    x0 = np.cumsum([lefts[0], *(axes_width + gap for gap in gaps)])
+    for row, axes in enumerate(grid):
+        y0 = height - top - axes_height - row * (axes_height + row_gap)
+        for ax, x in zip(axes, x0):
+            ax.set_position([x / width, y0 / height, axes_width / width, axes_height / height])
+
+
+def _widest_tick_label_in(axis) -> float:
+    """Width of the widest tick label ``axis`` will draw [in], major or minor (a log
+    axis over less than a decade labels minor ticks), from its locators and formatters
+    alone: no tick objects."""
+    from matplotlib import rcParams
+    from matplotlib.backends.backend_agg import RendererAgg
+    from matplotlib.font_manager import FontProperties
+
+    low, high = sorted(axis.get_view_interval())
+    slack = 1e-9 * (high - low)  # a tick this close to an end is drawn
+    labels = []
+    for ticker in (axis.major, axis.minor):
+        values = [v for v in ticker.locator() if low - slack <= v <= high + slack]
+        labels += ticker.formatter.format_ticks(values)
+    # Measured at DPI, as the PNG draws them: matplotlib keeps what it parsed of the
+    # mathtext labels (10^n) for the drawing.
+    renderer, font = RendererAgg(1, 1, DPI), FontProperties(
+        size=rcParams[f"{axis.axis_name}tick.labelsize"])
+    widths = [renderer.get_text_width_height_descent(label, font,
+                                                     ismath=label.count("$") >= 2)[0]
+              for label in labels if label]
+    return max(widths, default=0.0) / DPI  # pixels to inches
 
 
 def finish(figure: Figure, path: str | Path | None) -> Figure:

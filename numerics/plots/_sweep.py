@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from ._figure import finish, panel_title
+from ._figure import EDGE_PAD_IN, finish, fixed_layout, panel_title
 
 __all__ = ["plot_app", "plot_extrema"]
 
@@ -14,16 +14,27 @@ _STYLE = {"up": {"color": "black", "ls": "-", "marker": "."},
 _PANELS = "abcdefghij"
 
 
+#: The panels' margins [in] (``fixed_layout``), as constrained layout placed them on
+#: Fig. 2 and 3 (2026-11-23): the title and panel title above, the x tick labels and
+#: label below, a panel title between rows (the x tick labels hidden but in the last).
+_MARGINS_IN = {"right": 0.042, "top": 0.470, "bottom": 0.473, "row_gap": 0.34}
+
+
 def _panels(sweep, title: str):
     fracs = sorted({r.pa_frac for r in sweep.runs})
     cols = min(len(fracs), 2)
     rows = -(-len(fracs) // cols)
-    figure = Figure(figsize=(6.0 * cols, 2.6 * rows), layout="constrained")
+    figure = Figure(figsize=(6.0 * cols, 2.6 * rows))
     axes = figure.subplots(rows, cols, squeeze=False, sharex=True)
-    figure.suptitle(title)
+    figure.suptitle(title, y=1 - EDGE_PAD_IN / figure.get_figheight())
     for ax in axes.ravel()[len(fracs):]:
         ax.set_visible(False)
-    return figure, fracs, axes.ravel()
+    return figure, fracs, axes
+
+
+def _finish(figure, axes, path) -> Figure:
+    fixed_layout(figure, axes, **_MARGINS_IN)
+    return finish(figure, path)
 
 
 def _title(ax, i: int, frac: float) -> None:
@@ -41,7 +52,8 @@ def _resonance_marks(ax, f_n0: float, fmin: float, fmax: float) -> None:
 
 def plot_app(sweep, path=None) -> Figure:
     """Fig. 2: peak-to-peak amplitude App (log axis) against f_e, sweeps up and down."""
-    figure, fracs, axes = _panels(sweep, "Contact resonances: A_pp against f_e (Fig. 2)")
+    figure, fracs, grid = _panels(sweep, "Contact resonances: A_pp against f_e (Fig. 2)")
+    axes = grid.ravel()
     for i, (ax, frac) in enumerate(zip(axes, fracs)):
         for run in (r for r in sweep.runs if r.pa_frac == frac):
             f, app = np.asarray(run.frequency_hz), np.asarray(run.app_m)
@@ -58,13 +70,14 @@ def plot_app(sweep, path=None) -> Figure:
     axes[0].legend(fontsize=7, loc="upper left")
     for ax in axes[-2:]:
         ax.set_xlabel("f_e [Hz]")
-    return finish(figure, path)
+    return _finish(figure, grid, path)
 
 
 def plot_extrema(sweep, path=None) -> Figure:
     """Fig. 3: every local extremum of y over one period against f_e
     (minima light grey, maxima dark grey; down sweeps with + marks)."""
-    figure, fracs, axes = _panels(sweep, "Local extrema of y against f_e (Fig. 3)")
+    figure, fracs, grid = _panels(sweep, "Local extrema of y against f_e (Fig. 3)")
+    axes = grid.ravel()
     for i, (ax, frac) in enumerate(zip(axes, fracs)):
         for run in (r for r in sweep.runs if r.pa_frac == frac):
             marker = "." if run.direction == "up" else "+"
@@ -77,7 +90,7 @@ def plot_extrema(sweep, path=None) -> Figure:
         ax.set_ylabel("y extrema [nm]")
     for ax in axes[-2:]:
         ax.set_xlabel("f_e [Hz]")
-    return finish(figure, path)
+    return _finish(figure, grid, path)
 
 
 def _f_n0_hz(model: dict) -> float:

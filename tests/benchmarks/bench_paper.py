@@ -10,15 +10,16 @@ its route's first cold run (the kernels compiled, nothing else built: `make pape
 twice in a fresh clone). Without git (or that commit), the figures measured before the
 change are printed as the baseline instead, and the header says so. The new route also
 runs warm with `--jobs 1`, its scenes one after another in one process: the same code
-without the worker processes.
+without the worker processes (the default is one worker per processor, `SCENE_JOBS`).
 
 The drawing times are CPU seconds of one process that draws each figure of the report
 again from the same results (the scenes run once, then each plotting call is repeated),
 in each route: they do not include the overlap with the computations that the new route
-gains by drawing in worker processes; the whole command does. Last, what each change to
-the drawing saves on the Fig. 2 figure, in this process: the figure as drawn, and with
-one change undone (titles placed by matplotlib, every spine in the layout, the minor
-ticks of the decades off view, ``savefig``) and all undone, the variants in turn.
+gains by drawing in worker processes; the whole command does. Last, what each change
+to the drawing saves on the Fig. 2 figure, in this process: the figure as drawn, and
+with one change undone (constrained layout instead of ``fixed_layout``, titles placed
+by matplotlib, every spine in the layout, the minor ticks of the decades off view,
+``savefig``) and all undone, the variants in turn.
 """
 
 from __future__ import annotations
@@ -139,6 +140,15 @@ def _whole_command(trees: dict[str, Path], folder: Path) -> tuple[dict, dict[str
 
 
 @contextmanager
+def _constrained_layout():
+    from numerics.plots import _sweep
+
+    with mock.patch.object(_sweep, "fixed_layout", lambda figure, grid, **margins:
+                           figure.set_layout_engine("constrained")):
+        yield
+
+
+@contextmanager
 def _titles_by_matplotlib():
     from numerics.plots import _sweep
 
@@ -173,7 +183,8 @@ def _savefig():
 
 
 #: The Fig. 2 figure with one change to its drawing undone, or all of them.
-UNDONE = {"titles placed by matplotlib": (_titles_by_matplotlib,),
+UNDONE = {"constrained layout (no fixed_layout)": (_constrained_layout,),
+          "titles placed by matplotlib": (_titles_by_matplotlib,),
           "every spine in the layout": (_every_spine_in_layout,),
           "minor ticks of the decades off view": (_every_minor_tick,),
           "savefig (a draw to lay out, then one to render)": (_savefig,)}
@@ -246,10 +257,9 @@ def main() -> None:
         row(f"as drawn vs {name}", changes["as drawn"], changes[name], "s",
             higher_is_better=False)
     print(f"goals (issue 12): cold <= {GOALS['cold']:g} s, warm <= {GOALS['warm']:g} s; "
-          f"{os.cpu_count()} processors; the new route runs the scenes in worker processes; "
-          f"load average {load:.1f} before this benchmark, {os.getloadavg()[0]:.1f} after "
-          "(the worker processes gain only on processors the machine's other work leaves "
-          "idle)")
+          f"{os.cpu_count()} processors; load average {load:.1f} before this benchmark, "
+          f"{os.getloadavg()[0]:.1f} after (worker processes gain only on processors the "
+          "machine's other work leaves idle)")
 
 
 if __name__ == "__main__":

@@ -2,13 +2,31 @@
 
 RK4 (steps per period), the perturbation series (order) and scipy's DOP853 (rtol)
 against their error in A_pp; DOP853 at rtol 1e-9 is the baseline of each row.
+
+Then the study's own time (issue 12: `make paper` runs it), as the report runs it
+against the study with DOP853 also at rtol 1e-11 as it ran before 2026-11-23, in turn,
+median of STUDY_REPEATS, after a first run that derives and compiles the series' orders
+(every later run finds them in ``compile_series``'s cache, as the comparison scene of
+`make paper` does after the study).
 """
 
 from __future__ import annotations
 
+from unittest import mock
+
+from paper_checks import _work_precision
 from paper_checks._work_precision import work_precision
 
-from ._timing import header, row
+from ._timing import header, interleaved_medians, row
+
+STUDY_REPEATS = 3
+#: The DOP853 settings of the study before 2026-11-23.
+DOP853_RTOL_BEFORE = (1e-3, 1e-5, 1e-7, 1e-9, 1e-11)
+
+
+def _study_before() -> None:
+    with mock.patch.object(_work_precision, "DOP853_RTOL", DOP853_RTOL_BEFORE):
+        work_precision()
 
 
 def main() -> None:
@@ -20,6 +38,10 @@ def main() -> None:
         for setting, error, seconds in zip(method.settings, method.errors, method.seconds):
             row(f"{method.name} {method.setting.split(' (')[0]} = {setting:g}, error "
                 f"{error:.2e} [s]", seconds, baseline, "s", higher_is_better=False)
+    now, before = interleaved_medians(work_precision, _study_before, repeats=STUDY_REPEATS)
+    header(f"the work-precision study, wall time, median of {STUDY_REPEATS}; baseline: "
+           "DOP853 also at rtol 1e-11 (before 2026-11-23), same run")
+    row("the study as the report runs it [s]", now, before, "s", higher_is_better=False)
 
 
 if __name__ == "__main__":

@@ -30,7 +30,7 @@ from ._compare_response import (
     SteadyCurve,
     _relative_difference,
     compare_response,
-    steady_curve,
+    steady_curves,
 )
 
 __all__ = ["Comparison", "compare", "model_parting"]
@@ -188,13 +188,13 @@ def compare(
         raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
     backbone = compare_backbones(orders, model=ContactModel(parameters), tolerance=tolerance)
     limits = dict(zip(backbone.orders, backbone.limit_app_m))
-    bar = progress(len(pa_frac) * len(MODELS), "compare: RK4 sweeps", quiet=quiet)
-    curves = []
-    for frac in pa_frac:
-        for model in MODELS:
-            curves.append(steady_curve(grid, frac, model, steps_per_period, parameters))
-            bar.update()
+    bar = progress(len(MODELS), "compare: RK4 sweeps", quiet=quiet)
+    by_model = {}
+    for model in MODELS:  # all amplitudes and both directions of a model in one batch
+        by_model[model] = steady_curves(grid, pa_frac, model, steps_per_period, parameters)
+        bar.update()
     bar.close()
+    curves = [by_model[model][i] for i in range(len(pa_frac)) for model in MODELS]
     responses = [compare_response(curve, n, grid, limits[n], parameters)
                  for curve in curves for n in backbone.orders]
     settings = {"orders": list(orders), "pa_frac": list(pa_frac),

@@ -159,6 +159,30 @@ def steady_curve(grid, pa_frac: float, model_name: str, steps_per_period: int = 
                        **Orbits.stack(parts).columns())
 
 
+def steady_curves(grid, pa_fracs, model_name: str, steps_per_period: int = 128,
+                  parameters: ContactParameters = PAPER) -> list[SteadyCurve]:
+    """``steady_curve`` at each of ``pa_fracs``, the sweeps of all amplitudes and both
+    directions in one batched call (lanes are independent: the same states, some 3x
+    faster than one call each); where that call breaks down, amplitude by amplitude."""
+    check_choice("model_name", model_name, sorted(MODELS))
+    model = ContactModel(parameters, MODELS[model_name])
+    try:
+        runs = sweep(grid, list(pa_fracs), direction="both", model=model,
+                     steps_per_period=steps_per_period)
+    except ValueError:  # a lane went non-finite: find which amplitude, one by one
+        return [steady_curve(grid, frac, model_name, steps_per_period, parameters)
+                for frac in pa_fracs]
+    order = np.arange(grid.size)
+    curves = []
+    for frac in pa_fracs:
+        parts = [runs.run(frac, "up").take(order),
+                 runs.run(frac, "down").take(order[::-1])]
+        curves.append(SteadyCurve(model_name=model_name, pa_frac=frac,
+                                  direction=np.repeat(["up", "down"], grid.size), notes=[],
+                                  **Orbits.stack(parts).columns()))
+    return curves
+
+
 def _responses(response, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(frequencies, branches) matrices of the analytic App (NaN where no root) and validity."""
     app = np.full((grid.size, max(len(response.branches), 1)), np.nan)

@@ -89,8 +89,9 @@ def switch_branch(run: Continuation, bifurcation: Bifurcation, *, quiet: bool = 
     model = ContactModel.from_dict(run.model)
     settings = run.settings
     p_a = run.pa_frac * model.parameters.Q_n
-    old = PeriodMap(model, p_a, settings["steps_per_period"], branch.period)
-    new = PeriodMap(model, p_a, settings["steps_per_period"], 2 * branch.period)
+    engine = settings.get("engine", "auto")  # the engine the run walked with
+    old = PeriodMap(model, p_a, settings["steps_per_period"], branch.period, engine)
+    new = PeriodMap(model, p_a, settings["steps_per_period"], 2 * branch.period, engine)
     at = branch.frequency_hz == bifurcation.frequency_hz
     z_star = old.scaled(branch.y_start_m[at][0], branch.v_start_m_s[at][0],
                         bifurcation.frequency_hz)

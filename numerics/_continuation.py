@@ -47,7 +47,7 @@ DEFAULTS = {"steps_per_period": "auto", "ds_max": 0.02, "max_angle": 0.1, "max_p
 #: (taken for folds) and stops at 398 Hz, N = 512 none and reaches 355 Hz.
 _AUTO_MIN_STEPS = 512
 #: "auto" doubles N, up to this, while a walk stops inside the band at a corner: at 0.15 Q
-#: the walks stop 19 Hz apart near the bouncing fold at 512 steps, and the branch passes
+#: the walks stop 4.6 Hz apart near the bouncing fold at 512 steps, and the branch passes
 #: it (the fold at 352.4 Hz, where a 1024-step sweep jumps) at 1024.
 _AUTO_MAX_STEPS = 2048
 #: How the message of a walk that stopped at a corner begins.
@@ -300,15 +300,32 @@ def walk_finest(make_shoot, steps: int, auto: bool, model, low: float, high: flo
     """``walk_band`` on the map ``make_shoot(steps)``; if ``auto``, again at twice the steps
     while a walk stops inside the band at a corner that Newton cannot pass (the map's
     corners shrink with the step), up to ``_AUTO_MAX_STEPS``: (the map, the branches, the
-    bifurcations) of the last walk."""
+    bifurcations) of the walk that covered most of the band (of equal ones, the finest).
+    """
+    best = None
     while True:
         shoot = make_shoot(steps)
         branches, bifurcations = walk_band(shoot, model, low, high, ds_max, max_angle,
                                            max_points, quiet)
+        walked = (_coverage(branches, shoot), shoot, branches, bifurcations)
+        best = walked if best is None or walked[0] >= best[0] else best
         stuck = any(b.message.startswith(_STUCK) for b in branches)
         if not (auto and stuck and 2 * steps <= _AUTO_MAX_STEPS):
-            return shoot, branches, bifurcations
+            return best[1:]
         steps *= 2
+
+
+def _coverage(branches: list[ContinuedBranch], shoot: PeriodMap) -> float:
+    """The length of the parameter's band that the branches cover (the union of their
+    ranges), in its physical unit."""
+    spans = sorted((float(v.min()), float(v.max())) for v in
+                   (b.frequency_hz if not shoot.force_is_parameter else b.pa_frac
+                    * shoot.scale[2] for b in branches) if v.size)
+    total, end = 0.0, -np.inf
+    for lo, hi in spans:
+        total += max(hi - max(lo, end), 0.0)
+        end = max(end, hi)
+    return total
 
 
 def walk_band(shoot: PeriodMap, model, low: float, high: float, ds_max, max_angle,
@@ -439,27 +456,35 @@ class _Walk:
 
     def _natural_step(self):
         """Past a corner that the arclength step cannot pass: a step in the parameter alone
-        (Newton at a fixed f, from the last orbit), on in the walk's direction of f, as
-        ``_step`` gives it; None if no short one converges near the last point.
+        (Newton at a fixed f, from the last orbit), on in the direction that f was moving
+        (the sign of the last tangent's f-component), as ``_step`` gives it; None if no
+        short one converges near the last point and ahead of the walk.
 
         Where the map's corners crowd (the orbit landing and taking off within a step,
         loss of contact), the branch in z turns sharply at each, and at some the one-sided
         Jacobians send the bordered Newton off on both sides at any ds. Newton at a fixed
-        f a little further converges (at 0.15 Q, near 368.6 Hz, in 5 iterations). The step
-        is taken only where the orbit moves little (``_NATURAL_REACH``), so that it does not
-        jump to another branch; at most ``_NATURAL_STEPS`` times in a walk.
+        f a little further converges. The step is taken only where the orbit moves little
+        (``_NATURAL_REACH``: not onto another branch) and not back onto the walk's own
+        recent points (where f zigzags, f a little further may lie behind the walk: the
+        walk would turn round and walk its branch again); at most ``_NATURAL_STEPS``
+        times in a walk.
         """
         if self.natural_steps >= _NATURAL_STEPS:
             return None
         last = self.points[-1].z
+        recent = np.array([p.z for p in self.points[-_NATURAL_BEHIND - 1:-1]]).reshape(-1, 3)
         sign = np.sign(self.tangents[-1][2]) or self.direction
         for df in _NATURAL_DF:
             target = last[2] + sign * df
             point = self.shoot.correct(np.array([last[0], last[1], target]), _E_F, target)
-            if point is None or not np.abs(point.z - last).max() <= _NATURAL_REACH:
+            if point is None:
+                continue
+            moved = np.linalg.norm(point.z - last)
+            behind = np.linalg.norm(recent - point.z, axis=1).min(initial=np.inf) < 0.5 * moved
+            if not moved <= _NATURAL_REACH or behind:
                 continue
             self.natural_steps += 1
-            chord = (point.z - last) / np.linalg.norm(point.z - last)
+            chord = (point.z - last) / moved
             t = point.tangent(chord, 1.0)
             t = t if t @ chord > 0 else -t  # on along the chord: the branch's new orientation
             self.orientation = point.orientation(t) or 1.0
@@ -502,8 +527,8 @@ class _Walk:
         z, t = self.points[-1].z, self.tangents[-1]
         while ds >= _DS_MIN:
             point = self.shoot.correct(z + ds * t, t, t @ z + ds)
-            if point is not None:
-                t_new = point.tangent(t, self.orientation)
+            t_new = None if point is None else point.tangent(t, self.orientation)
+            if point is not None and np.isfinite(t_new).all():  # no tangent: a failed step
                 angle = np.arccos(np.clip(t_new @ t, -1.0, 1.0))
                 if angle <= self.max_angle:
                     self.resume = None
@@ -572,7 +597,7 @@ class _Walk:
         edge = self.f_hi if point.z[2] >= self.f_hi else self.f_lo
         share = (edge - last.z[2]) / (point.z[2] - last.z[2])
         guess = last.z + share * (point.z - last.z)
-        clipped = self.shoot.correct(guess, np.array([0.0, 0.0, 1.0]), edge)
+        clipped = self.shoot.correct(guess, _E_F, edge)
         if clipped is not None:
             self._keep(clipped, clipped.tangent(t, self.orientation))
         if self.from_edge and (edge == self.f_lo) == (self.direction > 0):
@@ -594,8 +619,13 @@ class _NotLocated(Exception):
 #: 0.015 Hz on the paper's model), how far the orbit may move in one (in z), and how many
 #: a walk may take.
 _NATURAL_DF = (1e-5, 3e-5, 1e-4)
-_NATURAL_REACH = 0.05
+#: (The steps that went on along the branch at 0.15 Q moved the orbit by 0.0028 at most;
+#: two that went back onto the walk's own points at 0.17 Q, by 0.015 and 0.029.)
+_NATURAL_REACH = 5e-3
 _NATURAL_STEPS = 100
+#: How many of the walk's last points a step in f alone must not land near (within half
+#: the distance it moved from the last one).
+_NATURAL_BEHIND = 400
 _E_F = np.array([0.0, 0.0, 1.0])
 
 #: Points that one compiled call walks at most, so that the progress bar moves (and

@@ -68,7 +68,10 @@ class Point:
         bordered = np.vstack([self.jacobian, reference])
         last = np.zeros(bordered.shape[0])  # any number of unknowns (the fold curves: 4)
         last[-1] = 1.0
-        t = np.linalg.solve(bordered, last)
+        try:
+            t = np.linalg.solve(bordered, last)
+        except np.linalg.LinAlgError:  # no tangent here: NaN, taken as a failed step
+            return np.full(bordered.shape[0], np.nan)
         t /= np.linalg.norm(t)
         return t if np.linalg.det(np.vstack([self.jacobian, t])) * orientation > 0 else -t
 
@@ -107,7 +110,7 @@ class PeriodMap:
         self.kernels = compiled_kernels(model)
         self.steps, self.period = steps, period
         self.drive = drive_table(steps)
-        self.p_a = np.full(3, p_a_n)
+        self.p_a = np.full(1, p_a_n)
         # z = (y / y0, v / (omega0 y0), f / f_n0).
         self.scale = np.array([numbers.y0_m, numbers.omega0_rad_s * numbers.y0_m,
                                numbers.f_n0_hz])

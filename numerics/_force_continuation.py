@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import time
 
-from common import Result, check_positive, result
+from common import Result, check_choice, check_positive, result
 from perturb import ContactModel, eq26_numbers
 
 from ._continuation import (
@@ -28,6 +28,7 @@ from ._continuation import (
 )
 from ._continuation_map import ForceMap
 from ._simulate import check_model
+from ._sweep import ENGINES
 
 __all__ = ["ForceContinuation", "continue_in_force"]
 
@@ -45,7 +46,7 @@ class ForceContinuation(Result):
     bifurcations : list of Bifurcation
         Folds and period doublings, located in P_a (``pa_frac``).
     model, settings : dict
-        The model; pa_min, pa_max, steps_per_period (the N used), ds_max, max_angle,
+        The model; pa_min, pa_max, steps_per_period (the N used), ds_max, max_angle, engine,
         max_points.
     elapsed_s : float
     """
@@ -81,6 +82,7 @@ def continue_in_force(
     max_angle: float = DEFAULTS["max_angle"],
     max_points: int = DEFAULTS["max_points"],
     quiet: bool = True,
+    engine: str = "auto",
 ) -> ForceContinuation:
     """Continue the p-periodic orbit reached at ``pa_min`` from rest up to ``pa_max``, at
     one f_e: the force-response curve, through its folds.
@@ -93,9 +95,9 @@ def continue_in_force(
         The range of P_a / Q (pa_min >= 0). The branch starts at the stable orbit that
         time marching from rest reaches at ``pa_min`` and, if it ends inside the range,
         a second walk starts from the one reached at ``pa_max``, down in P_a.
-    model, period, steps_per_period, ds_max, max_angle, max_points, quiet
+    model, period, steps_per_period, ds_max, max_angle, max_points, quiet, engine
         As in ``continue_orbits`` ("auto" steps: ``steady_states``' choice at f_e, but at
-        least 512).
+        least 512, walked again at twice N while a walk stops at a corner).
 
     Returns
     -------
@@ -117,15 +119,17 @@ def continue_in_force(
     if not pa_min < pa_max:
         raise ValueError(f"`pa_max` must be above `pa_min`, got {pa_min!r} and {pa_max!r}.")
     ds_max, max_angle, max_points = check_walk(period, ds_max, max_angle, max_points)
+    check_choice("engine", engine, ENGINES)
     check_band("frequency_hz", f_e, model.parameters)
     steps = branch_steps(steps_per_period, f_e, eq26_numbers(model.parameters))
     start = time.perf_counter()
     q = model.parameters.Q_n
     shoot, branches, bifurcations = walk_finest(
-        lambda n: ForceMap(model, f_e, n, period), steps, steps_per_period == "auto", model,
+        lambda n: ForceMap(model, f_e, n, period, engine), steps, steps_per_period == "auto", model,
         pa_min * q, pa_max * q, ds_max, max_angle, max_points, quiet)
     settings = {"pa_min": pa_min, "pa_max": pa_max, "steps_per_period": shoot.steps,
-                "ds_max": ds_max, "max_angle": max_angle, "max_points": max_points}
+                "ds_max": ds_max, "max_angle": max_angle, "max_points": max_points,
+                "engine": "python" if shoot.walker is None else "compiled"}
     return ForceContinuation(frequency_hz=f_e, branches=branches, bifurcations=bifurcations,
                              model=model.as_dict(), settings=settings,
                              elapsed_s=time.perf_counter() - start)

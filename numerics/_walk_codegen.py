@@ -1,6 +1,6 @@
 """The compiled continuation walk of a model: ``_walk_template.py`` after an import of
 the model's kernels, written to the cache folder beside them and compiled by numba
-once (some seconds), then loaded from its cache.
+once (some 15 s), then loaded from its cache.
 
 It is a module of its own, not a part of the kernels' module, so that changing the
 walk compiles the walk again, not every kernel. Its key is the kernels' key with the
@@ -19,6 +19,7 @@ from perturb import ContactModel
 from perturb._cache import cache_key, import_generated, usable_cache_dir
 
 from ._codegen import _SOURCES, _checksum, _intact, _remove, compiled_kernels, write_atomically
+from ._lanes import drive_table
 
 __all__ = ["compiled_walk"]
 
@@ -64,13 +65,11 @@ def _smoke(module: ModuleType) -> None:
     """One walk of one step on a 4-step map, with the argument types of the real calls:
     numba loads (or compiles) the machine code here, so that a broken cache file shows
     now and is rebuilt."""
-    drive = np.cos(np.pi * np.arange(9) / 4)  # drive_table(4)
-    drive.flags.writeable = False
+    drive = drive_table(4)
     settings = np.zeros(15)  # no Newton iteration, the least ds 1e-3: one try
-    settings[0], settings[11], settings[12] = 1e-3, 1e-7, 1.0
+    settings[module._DS_MIN], settings[module._DF_REL], settings[module._H_FLOOR] = 1e-3, 1e-7, 1.0
     rows = 1
     module.walk_steps(np.ones(3), np.array([0.0, 0.0, 1.0]), np.eye(2), 1.0,
                       np.array([1e-3, -1.0]), np.ones(3), 4, 1, drive, False, 1.0, settings,
-                      np.empty((rows, 3)),
-                      np.empty((rows, 3)), np.empty((rows, 2, 3)), np.empty((rows, 2, 2)),
-                      np.empty(rows, dtype=np.int64))
+                      np.empty((rows, 3)), np.empty((rows, 3)), np.empty((rows, 2, 3)),
+                      np.empty((rows, 2, 2)), np.empty(rows, dtype=np.int64))

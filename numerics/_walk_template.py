@@ -8,7 +8,8 @@ predictor along the tangent, Newton on the bordered system [R(z) = 0,
 t . (z - z_k) = ds] with its line search, the new tangent and the step control.
 It keeps the plain points and hands back to Python the first step that needs it:
 one where a fold or a period doubling may lie between the last point and the new
-one (located in Python by Brent's method), or that crosses the band's edge. The
+one (located in Python by Brent's method), or that crosses the band's edge, or a
+step that failed at every ds (Python then tries a step in f alone). The
 numbers of the walk (tolerances, factors) come in ``settings``, from the Python
 modules that define them.
 """
@@ -208,6 +209,7 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
                                  mono_out[kept])
             if iterations > 0:
                 tangent(jac_out[kept], t, orientation, t_new)
+            if iterations > 0 and np.isfinite(t_new).all():  # no tangent: as a failed Newton
                 angle = math.acos(min(max(t_new @ t, -1.0), 1.0))
                 if angle <= settings[_MAX_ANGLE]:
                     resume = -1.0

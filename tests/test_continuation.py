@@ -83,7 +83,7 @@ def test_every_stable_sweep_state_at_005q_lies_on_a_stable_branch(band_005):
 
 def test_the_015q_branch_passes_the_bouncing_fold_and_holds_every_stable_sweep_state():
     # At 512 steps the walk up (through the fold at 1332.8 Hz, back along the middle
-    # branch of bouncing orbits) and the walk down (the upper branch) stop 19 Hz apart at
+    # branch of bouncing orbits) and the walk down (the upper branch) stop 4.6 Hz apart at
     # corners of the piecewise smooth map near the bouncing fold; "auto" walks again at
     # 1024 steps, where the branch is whole: one branch, the bouncing fold at 352.4 Hz.
     # The 5 Hz sweep down (at its own, coarser N) jumps off that branch at 355 Hz: the

@@ -102,3 +102,23 @@ def test_a_damaged_walk_file_is_written_and_compiled_again(tmp_path, monkeypatch
     assert Path(walk.__file__) == path and _codegen._intact(path)
     run = continue_orbits(0.02, 1300.0, 1600.0, model=model)
     assert run.settings["engine"] == "compiled" and run.branches[0].status == 0
+
+
+def test_the_compiled_walk_reads_each_number_where_python_writes_it():
+    # The settings array is filled in _Walk.__init__ (and PeriodMap.newton_settings) and
+    # read by index in the template: each index must hold the number of its name.
+    from numerics import _continuation as c
+    from numerics import _continuation_map as m
+
+    shoot = m.ForceMap(ContactModel(), 1400.0, 512, 1)
+    walk = c._Walk(shoot, 0.01, 0.2, 1, 0.03, 0.07, 10, None)
+    module = shoot.walker
+    expected = {"_DS_MIN": c._DS_MIN, "_DS_MAX": 0.03, "_MAX_ANGLE": 0.07, "_GROW": c._GROW,
+                "_SHRINK": c._SHRINK, "_CORNER_DS": c._CORNER_DS, "_EASY": c._EASY_ITERATIONS,
+                "_TOL": m.NEWTON_TOL, "_ITERATIONS": m.NEWTON_ITERATIONS,
+                "_REACH": m._NEWTON_REACH, "_BACKTRACKS": m._BACKTRACKS, "_DF_REL": m._DF_REL,
+                "_H_FLOOR": shoot.difference_floor, "_F_LO": 0.01 / shoot.scale[2],
+                "_F_HI": 0.2 / shoot.scale[2]}
+    assert walk.settings.size == len(expected)
+    for name, value in expected.items():
+        assert walk.settings[getattr(module, name)] == value, name

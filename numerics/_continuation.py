@@ -447,12 +447,19 @@ class _Walk:
                          f"{self.shoot.label(self.points[-1].z)}: Newton does not converge there")
                 break
             point, t, ds = step
-            self._bifurcations(point, t)
+            unlocated = self._bifurcations(point, t)
             if point.z[2] >= self.f_hi or point.z[2] <= self.f_lo:
                 self._clip(point, t)
+                self._mark_at_last(unlocated)
                 break
             self._keep(point, t)
+            self._mark_at_last(unlocated)
             self.bar.update(point.z[2] * self.shoot.scale[2], self.direction)
+
+    def _mark_at_last(self, kinds: list[str]) -> None:
+        """Bifurcations that Brent's method could not locate, marked at the last point
+        kept: within one step of where they are."""
+        self.marks += [(len(self.points) - 1, kind) for kind in kinds]
 
     def _natural_step(self):
         """Past a corner that the arclength step cannot pass: a step in the parameter alone
@@ -547,13 +554,15 @@ class _Walk:
             ds *= _SHRINK
         return None
 
-    def _bifurcations(self, point: Point, t: np.ndarray) -> None:
+    def _bifurcations(self, point: Point, t: np.ndarray) -> list[str]:
         """Locate the folds and period doublings between the last point and ``point``
-        and keep them as points of the branch."""
+        and keep them as points of the branch; returns the kinds of those it could not
+        locate (Newton cannot correct between the two points: a corner lies between, or
+        the step was one in f alone), to be marked at ``point``, not lost."""
         base, t_base = self.points[-1], self.tangents[-1]
         tests = {"fold": lambda p, tp: tp[2],
                  "period-doubling": lambda p, tp: p.period_doubling_test}
-        found = []
+        found, unlocated = [], []
         # A fold passes a real multiplier through +1: where t_f turns with no change in
         # the count of multipliers outside the unit circle, it turned at a corner of the
         # piecewise smooth map (an artefact of the fixed step), not at a fold.
@@ -562,11 +571,14 @@ class _Walk:
         for kind, test in tests.items():
             if turns[kind] and test(base, t_base) * test(point, t) < 0:
                 located = self._locate(base, t_base, point, test)
-                if located is not None:
+                if located is None:
+                    unlocated.append(kind)
+                else:
                     found.append((located[0], kind, located[1], located[2]))
         for _, kind, p, tp in sorted(found, key=lambda item: item[0]):
             self.marks.append((len(self.points), kind))
             self._keep(p, tp)
+        return unlocated
 
     def _locate(self, base: Point, t_base, end: Point, test):
         """Brent's method on the arclength s from ``base`` towards ``end``: the s where

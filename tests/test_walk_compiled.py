@@ -122,3 +122,16 @@ def test_the_compiled_walk_reads_each_number_where_python_writes_it():
     assert walk.settings.size == len(expected)
     for name, value in expected.items():
         assert walk.settings[getattr(module, name)] == value, name
+
+
+def test_a_bifurcation_that_cannot_be_located_is_marked_not_lost(monkeypatch):
+    # Where Newton cannot correct between two points (a corner between them), Brent's
+    # method fails: the doubling at 1.25 Q (1557.155 Hz when located) is then marked at
+    # the last point kept, within one step (measured 0.63 Hz below; the steps here are
+    # some 6 Hz in f).
+    from numerics import _continuation as c
+
+    monkeypatch.setattr(c._Walk, "_locate", lambda self, *args: None)
+    run = continue_orbits(1.25, 1500.0, 1700.0)
+    (doubling,) = [b for b in run.bifurcations if b.kind == "period-doubling"]
+    assert abs(doubling.frequency_hz - 1557.155) < 1.0

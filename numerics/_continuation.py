@@ -334,7 +334,7 @@ def walk_band(shoot: PeriodMap, model, low: float, high: float, ds_max, max_angl
     (``low``, ``high``: the parameter in its physical unit), walked up; if it ends inside
     the band, also the one from the upper end, walked down, joined to it where they meet.
     """
-    bar = _Coverage(low, high, quiet)
+    bar = _Coverage(low, high, quiet, shoot.steps)
     walks = [_walk_from(shoot, model, low, high, +1, bar, ds_max, max_angle, max_points)]
     if walks[0].status != Status.SUCCESS:
         # The branch ended inside the band (at a corner of the map that Newton cannot
@@ -363,10 +363,11 @@ def _walk_from(shoot, model, fmin_hz, fmax_hz, direction, bar, ds_max, max_angle
 class _Coverage:
     """The progress bar: the share of the band that the walks have covered."""
 
-    def __init__(self, fmin_hz, fmax_hz, quiet):
+    def __init__(self, fmin_hz, fmax_hz, quiet, steps: int | None = None):
         self.lo, self.hi = fmin_hz, fmax_hz
         self.reached = [fmin_hz, fmax_hz]  # by the walk up, by the walk down
-        self.bar = progress(1000, "continue", quiet=quiet)
+        label = "continue" if steps is None else f"continue, N = {steps}"  # "auto" may redo
+        self.bar = progress(1000, label, quiet=quiet)
 
     def update(self, f_hz: float, direction: int) -> None:
         if direction > 0:

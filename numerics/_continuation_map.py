@@ -114,7 +114,7 @@ class PeriodMap:
         # z = (y / y0, v / (omega0 y0), f / f_n0).
         self.scale = np.array([numbers.y0_m, numbers.omega0_rad_s * numbers.y0_m,
                                numbers.f_n0_hz])
-        self.evaluations = 0
+        self.evaluations = 0  # of R from Python (the compiled walk's are not counted)
         # The compiled walk's view of the map: which drive is the parameter, the other
         # one's value, the least scale of the difference step (``difference_step``).
         self.force_is_parameter, self.other, self.difference_floor = False, float(p_a_n), 0.0

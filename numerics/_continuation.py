@@ -251,12 +251,19 @@ def continue_orbits(
     shoot, branches, bifurcations = walk_finest(
         lambda n: PeriodMap(model, p_a, n, period, engine), steps, steps_per_period == "auto",
         model, fmin_hz, fmax_hz, ds_max, max_angle, max_points, quiet)
-    settings = {"fmin_hz": fmin_hz, "fmax_hz": fmax_hz, "steps_per_period": shoot.steps,
-                "ds_max": ds_max, "max_angle": max_angle, "max_points": max_points,
-                "engine": "python" if shoot.walker is None else "compiled"}
+    settings = {"fmin_hz": fmin_hz, "fmax_hz": fmax_hz,
+                **walk_settings(shoot, ds_max, max_angle, max_points)}
     return Continuation(pa_frac=pa_frac, branches=branches, bifurcations=bifurcations,
                         model=model.as_dict(), settings=settings,
                         elapsed_s=time.perf_counter() - start)
+
+
+def walk_settings(shoot: PeriodMap, ds_max, max_angle, max_points) -> dict:
+    """The settings of a walk on ``shoot`` for a result: the N it took, the step control
+    and the engine that ran."""
+    return {"steps_per_period": shoot.steps, "ds_max": ds_max, "max_angle": max_angle,
+            "max_points": max_points,
+            "engine": "python" if shoot.walker is None else "compiled"}
 
 
 def check_band(name: str, f_hz: float, parameters) -> None:

@@ -110,13 +110,12 @@ class PeriodMap:
         self.kernels = compiled_kernels(model)
         self.steps, self.period = steps, period
         self.drive = drive_table(steps)
-        self.p_a = np.full(1, p_a_n)
         # z = (y / y0, v / (omega0 y0), f / f_n0).
         self.scale = np.array([numbers.y0_m, numbers.omega0_rad_s * numbers.y0_m,
                                numbers.f_n0_hz])
         self.evaluations = 0  # of R from Python (the compiled walk's are not counted)
-        # The compiled walk's view of the map: which drive is the parameter, the other
-        # one's value, the least scale of the difference step (``difference_step``).
+        # Which drive is the parameter, the other one's value (P_a [N] here), and the
+        # least scale of the difference step (``difference_step``).
         self.force_is_parameter, self.other, self.difference_floor = False, float(p_a_n), 0.0
 
     @cached_property
@@ -146,7 +145,8 @@ class PeriodMap:
     def drives(self, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(f_e [Hz], P_a [N]) at each value of the parameter (in its physical unit)."""
         parameter = np.asarray(parameter, dtype=float)
-        return parameter, np.full(parameter.shape, self.p_a[0])
+        other = np.full(parameter.shape, self.other)
+        return (other, parameter) if self.force_is_parameter else (parameter, other)
 
     def label(self, z: np.ndarray) -> str:
         """The parameter's value at z, for messages."""
@@ -235,15 +235,10 @@ class ForceMap(PeriodMap):
     def __init__(self, model: ContactModel, f_hz: float, steps: int, period: int,
                  engine: str = "auto") -> None:
         super().__init__(model, 0.0, steps, period, engine)
-        self.f_hz = f_hz
         self.scale[2] = model.parameters.Q_n
-        # relative to Q: P_a may be near 0
+        # f_e is fixed; the difference step is relative to Q: P_a may be near 0.
         self.force_is_parameter, self.other = True, float(f_hz)
         self.difference_floor = float(model.parameters.Q_n)
-
-    def drives(self, parameter: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        parameter = np.asarray(parameter, dtype=float)
-        return np.full(parameter.shape, self.f_hz), parameter
 
     def label(self, z: np.ndarray) -> str:
         return f"P_a = {z[2]:.6g} Q"

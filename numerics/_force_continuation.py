@@ -25,6 +25,7 @@ from ._continuation import (
     check_walk,
     count_kinds,
     walk_finest,
+    walk_settings,
 )
 from ._continuation_map import ForceMap
 from ._simulate import check_model
@@ -127,9 +128,8 @@ def continue_in_force(
     shoot, branches, bifurcations = walk_finest(
         lambda n: ForceMap(model, f_e, n, period, engine), steps, steps_per_period == "auto", model,
         pa_min * q, pa_max * q, ds_max, max_angle, max_points, quiet)
-    settings = {"pa_min": pa_min, "pa_max": pa_max, "steps_per_period": shoot.steps,
-                "ds_max": ds_max, "max_angle": max_angle, "max_points": max_points,
-                "engine": "python" if shoot.walker is None else "compiled"}
+    settings = {"pa_min": pa_min, "pa_max": pa_max,
+                **walk_settings(shoot, ds_max, max_angle, max_points)}
     return ForceContinuation(frequency_hz=f_e, branches=branches, bifurcations=bifurcations,
                              model=model.as_dict(), settings=settings,
                              elapsed_s=time.perf_counter() - start)

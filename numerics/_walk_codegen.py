@@ -46,19 +46,23 @@ def _source(kernels: ModuleType) -> str:
 
 
 def _load(path: Path, key: str, kernels: ModuleType) -> ModuleType:
+    """As ``_codegen._load``: a damaged file, or a broken numba cache beside an intact
+    one, is written and compiled again once."""
     if path.exists() and not _intact(path):
         _remove(path)  # corrupt or partial: written again
-    for attempt in range(2):
-        if not path.exists():
-            body = _source(kernels)
-            write_atomically(path, f"{_checksum(body)}\n{body}")
-        try:
-            return import_generated(path, f"_contact_walk_{key}", _smoke)
-        except Exception:  # a broken numba cache beside an intact file: rebuilt once
-            if attempt:
-                raise
-            _remove(path)
-    raise AssertionError("unreachable")
+    if not path.exists():
+        _write(path, kernels)
+    try:
+        return import_generated(path, f"_contact_walk_{key}", _smoke)
+    except Exception:
+        _remove(path)
+        _write(path, kernels)
+        return import_generated(path, f"_contact_walk_{key}", _smoke)
+
+
+def _write(path: Path, kernels: ModuleType) -> None:
+    body = _source(kernels)
+    write_atomically(path, f"{_checksum(body)}\n{body}")
 
 
 def _smoke(module: ModuleType) -> None:

@@ -21,7 +21,7 @@ from common import (
     progress,
     result,
 )
-from perturb import PAPER, PAPER_BAND_HZ, ContactModel, ContactParameters
+from perturb import PAPER, PAPER_BAND_HZ, ContactModel, ContactParameters, frequency_response
 
 from ._compare_backbone import BackboneComparison, compare_backbones
 from ._compare_response import (
@@ -195,7 +195,12 @@ def compare(
         bar.update()
     bar.close()
     curves = [by_model[model][i] for i in range(len(pa_frac)) for model in MODELS]
-    responses = [compare_response(curve, n, grid, limits[n], parameters)
+    # The series is of Eq. 2.6 whatever the model it is compared with: solved once per
+    # amplitude and order, for the curves of both models.
+    series = {(frac, n): frequency_response(grid, frac, n, parameters=parameters)
+              for frac in pa_frac for n in backbone.orders}
+    responses = [compare_response(curve, n, grid, limits[n], parameters,
+                                  response=series[curve.pa_frac, n])
                  for curve in curves for n in backbone.orders]
     settings = {"orders": list(orders), "pa_frac": list(pa_frac),
                 "steps_per_period": steps_per_period, "tolerance": tolerance,

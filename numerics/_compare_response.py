@@ -20,6 +20,7 @@ from perturb import (
     PAPER,
     ContactModel,
     ContactParameters,
+    Response,
     eq26_numbers,
     frequency_response,
 )
@@ -256,7 +257,7 @@ def _peaks(states_f, states_app, series_f, series_app, f_n0) -> list[PeakCheck]:
 
 def compare_response(
     curve: SteadyCurve, order: int, grid: np.ndarray, app_limit_m: float = np.inf,
-    parameters: ContactParameters = PAPER,
+    parameters: ContactParameters = PAPER, response: Response | None = None,
 ) -> ResponseComparison:
     """The order-N analytic response against the settled states of ``curve`` (computed
     with ``parameters``).
@@ -265,8 +266,16 @@ def compare_response(
     App. The series counts as valid for the state when that root is flagged
     valid (no contact loss, next orders change it by < 1 %) and the state's App
     is within ``app_limit_m``, the range where the order's backbone holds.
+    ``response`` is the series' ``frequency_response`` on ``grid`` at the curve's P_a,
+    if already solved (one serves the curves of both models); solved here if None.
     """
-    response = frequency_response(grid, curve.pa_frac, order, parameters=parameters)
+    if response is None:
+        response = frequency_response(grid, curve.pa_frac, order, parameters=parameters)
+    elif (response.order, response.pa_frac) != (order, curve.pa_frac) or not np.array_equal(
+            response.frequency_hz, grid):
+        raise ValueError(f"`response` is of order {response.order} at P_a = "
+                         f"{response.pa_frac} Q on another grid, not of order {order} at "
+                         f"{curve.pa_frac} Q on `grid`.")
     app_table, valid_table = _responses(response, grid)
     keep = curve.settled & np.isfinite(curve.app_m)
     frequency, app = curve.frequency_hz[keep], curve.app_m[keep]

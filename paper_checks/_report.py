@@ -59,11 +59,19 @@ def _work_section(work) -> list[str]:
         lines += [f"| {s:g} | {e:.3g} | {t:.3g} |"
                   for s, e, t in zip(method.settings, method.errors, method.seconds)]
         if "derive_seconds" in method.extra:
-            lines += ["", "Time to derive and compile each order (first call): " + ", ".join(
-                f"N={n}: {t:.3g} s" for n, t in zip(method.settings,
-                                                   method.extra["derive_seconds"]))]
+            lines += ["", _derive_line(method)]
         lines.append("")
     return lines + ["![work-precision](work-precision.png)", ""]
+
+
+def _derive_line(method) -> str:
+    """The time each order's formulas took at their first call: derived and compiled, or
+    imported from the cache on disk (older reports do not say which)."""
+    cached = method.extra.get("derive_cached", [None] * len(method.settings))
+    how = {True: " (from the disk)", False: " (derived)", None: ""}
+    return "Time to get each order's formulas (first call): " + ", ".join(
+        f"N={n}: {t:.3g} s{how[c]}"
+        for n, t, c in zip(method.settings, method.extra["derive_seconds"], cached))
 
 
 def _runs_section(out: Path, this_run: dict) -> list[str]:

@@ -10,10 +10,14 @@ coarser grids (for the tests), in variants of the scenes made by
 ``dataclasses.replace``.
 
 The scenes are independent: ``PaperScene.start(executor)`` hands them all to worker
-processes at once (``worker_pool``), in the jobs of ``SCENE_JOBS``, each drawing its
-own figures there, and the properties then wait for theirs; an error in a worker is
-raised where a result of its job is asked for. Without ``start`` every scene runs in
-this process when first asked for.
+processes (``worker_pool``), one job per scene, longest first, each drawing its own
+figures there, and the properties then wait for theirs; an error in a worker is
+raised where a result of its scene is asked for. Those that run no RK4
+(``KERNEL_FREE``) start at once, beside the compilation of the kernels, and so does the
+derivation of the series' formulas (written to the cache on disk, where the
+work-precision study and the comparison find them); the others start when the
+kernels are compiled. Without ``start`` every scene runs in this process when first
+asked for.
 """
 
 from __future__ import annotations
@@ -39,14 +43,15 @@ from perturb import (
     PAPER_COEXISTENCE,
     PAPER_PANEL_FRACTIONS,
     ContactModel,
+    compile_series,
     derive,
     eq26_numbers,
 )
 
-from ._work_precision import WorkPrecision
+from ._work_precision import ERROR_ORDERS, SERIES_ORDERS, WorkPrecision
 
 __all__ = ["PaperScene", "COEXISTENCE_POINTS", "SCENES", "CENSUS_SCENES", "SCENE_FILES",
-           "SCENE_JOBS", "paper_scene", "worker_pool"]
+           "KERNEL_FREE", "paper_scene", "worker_pool"]
 
 #: The folder of the paper's scenes.
 SCENES = Path(__file__).parent / "scenes"
@@ -54,16 +59,13 @@ SCENES = Path(__file__).parent / "scenes"
 COEXISTENCE_POINTS = PAPER_COEXISTENCE
 #: The scene of each point of COEXISTENCE_POINTS.
 CENSUS_SCENES = {"740 Hz, 0.15Q": "census-740hz.toml", "490 Hz, 0.50Q": "census-490hz.toml"}
-#: Every scene of the report, in the jobs a worker process runs each, longest first.
-#: The work-precision study and the comparison share one job: both evaluate the series
-#: of orders 0 to 10, which each process derives and compiles once (1.6 s, 2026-11-23).
-#: The study goes first, as in one process (where the claims ask for it first): it
-#: times that derivation, order by order.
-SCENE_JOBS = (("work-precision.toml", "comparison.toml"), ("fig2-fig3.toml",),
-              ("backbone.toml",), *((name,) for name in CENSUS_SCENES.values()),
-              ("fig4.toml",), ("fig5.toml",))
-#: Every scene of the report.
-SCENE_FILES = tuple(name for job in SCENE_JOBS for name in job)
+#: Every scene of the report, longest first, as the workers take them: 2.6, 2.2, 1.7,
+#: 0.5 s, then under 0.3 s each with their figures (2026-11-23, the kernels cached and
+#: no sweep driver built, as in `make paper` run twice in a fresh clone).
+SCENE_FILES = ("comparison.toml", "fig2-fig3.toml", "work-precision.toml", "fig4.toml",
+               *CENSUS_SCENES.values(), "backbone.toml", "fig5.toml")
+#: The scenes that run no RK4: they need no compiled kernels.
+KERNEL_FREE = ("fig4.toml", "backbone.toml")
 #: The models whose compiled kernels the scenes share (the full model; Eq. 2.6 for the
 #: comparison and the series' reference), compiled before the scenes start.
 KERNEL_MODELS = (ContactModel(), ContactModel(effects=EQ_2_6))
@@ -98,12 +100,6 @@ class SceneJob:
     figure_seconds: float | None = None
 
 
-def run_jobs(scenes: dict[str, Scene], out: Path | None) -> dict[str, SceneJob]:
-    """``run_job`` of each scene of ``scenes`` (by file name), in turn: the job of one
-    worker process."""
-    return {name: run_job(scene, out) for name, scene in scenes.items()}
-
-
 def run_job(scene: Scene, out: Path | None) -> SceneJob:
     """Run ``scene``, its figures into ``out``; the work-precision study's figure too."""
     start = time.perf_counter()
@@ -121,6 +117,14 @@ def run_job(scene: Scene, out: Path | None) -> SceneJob:
 
 def _compile(model: ContactModel) -> None:
     compiled_kernels(model)  # the module stays in the worker: it does not pickle
+
+
+def _derive_formulas() -> None:
+    """The series' formulas of every order the work-precision study and the comparison
+    evaluate, derived once into the cache on disk (or found there). Not kept in this
+    worker's memory: the study that may run here next times each order's first call."""
+    for order in range(max(SERIES_ORDERS) + ERROR_ORDERS + 1):
+        compile_series.__wrapped__(order)
 
 
 @contextmanager
@@ -178,20 +182,25 @@ class PaperScene:
         return replace(scene, options=options, **changes)
 
     def start(self, executor: Executor, names: Iterable[str] = SCENE_FILES) -> None:
-        """Hand the scenes ``names`` (default: all) to ``executor``, in the jobs of
-        ``SCENE_JOBS``.
+        """Hand the scenes ``names`` (default: all) to ``executor``, one job each, in the
+        order of ``SCENE_FILES``.
 
         The kernels the scenes share are compiled first, each by one worker at once
-        (with an empty cache, every worker would otherwise compile each of them).
+        (with an empty cache, every worker would otherwise compile each of them); the
+        scenes of ``KERNEL_FREE`` and the series' formulas go meanwhile to a worker that
+        is free, the other scenes once the kernels are compiled.
         """
-        for compiled in [executor.submit(_compile, model) for model in KERNEL_MODELS]:
-            compiled.result()
-        wanted = [name for name in names if name not in self.runs | self._started]
-        for job in SCENE_JOBS:
-            scenes = {name: self.variant(name) for name in job if name in wanted}
-            if scenes:
-                started = executor.submit(run_jobs, scenes, self.out)
-                self._started.update(dict.fromkeys(scenes, started))
+        wanted = [name for name in SCENE_FILES
+                  if name in names and name not in self.runs | self._started]
+        compiled = [executor.submit(_compile, model) for model in KERNEL_MODELS]
+        for name in [name for name in wanted if name in KERNEL_FREE]:
+            self._started[name] = executor.submit(run_job, self.variant(name), self.out)
+        if {"work-precision.toml", "comparison.toml"} & set(wanted):
+            executor.submit(_derive_formulas)
+        for done in compiled:
+            done.result()
+        for name in [name for name in wanted if name not in KERNEL_FREE]:
+            self._started[name] = executor.submit(run_job, self.variant(name), self.out)
 
     def _run(self, timing: str, settings: str, *names: str) -> list[SceneRun]:
         """The runs of the scenes ``names`` (waited for, or run here), timed as ``timing``:
@@ -199,7 +208,7 @@ class PaperScene:
         jobs = []
         for name in names:
             started = self._started.pop(name, None)
-            job = (started.result()[name] if started is not None
+            job = (started.result() if started is not None
                    else run_job(self.variant(name), self.out))
             self.runs[name] = job.run
             if job.figure_seconds is not None:

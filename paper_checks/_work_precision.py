@@ -18,7 +18,9 @@ over a few (P_a, f_e) points:
 Each order of the series is derived and compiled (``compile_series``) before any is
 timed, in increasing order, each order's time measured alone: the numpy route of
 order N also evaluates orders N+1 and N+2 (its error estimate), so the first timed
-call of one order would otherwise build the next two inside its timing.
+call of one order would otherwise build the next two inside its timing. An order
+whose formulas an earlier run left on disk is imported from there, not derived:
+``derive_cached`` says which, beside ``derive_seconds``.
 
 It is also a kind of scene study, ``work_precision`` (``scenes/work-precision.toml``),
 registered here on import. Its ``SceneRun.outcomes`` is empty and its ``text`` is the
@@ -40,6 +42,7 @@ from common import jsonable
 from numerics import reference_last_period, steady_states
 from numerics.scenes import Option, Study, StudyRun, register_study
 from perturb import EQ_2_6, PAPER, ContactModel, compile_series, frequency_response
+from perturb._compiled import formulas_cached
 
 __all__ = ["WorkPrecision", "work_precision", "RK4_POINTS", "SERIES_POINTS"]
 
@@ -124,9 +127,11 @@ def _series(quick: bool) -> Method:
     ref = steady_states(f, frac * PAPER.Q_n, model=ContactModel(effects=EQ_2_6),
                         steps_per_period=1600, tol=1e-9)
     orders = SERIES_ORDERS[:5] if quick else SERIES_ORDERS
+    cached = [formulas_cached(order) for order in orders]
     derive_seconds = _compile_orders(orders[-1] + ERROR_ORDERS)
     method = Method("series", "order N (numpy route)",
-                    extra={"derive_seconds": derive_seconds[:len(orders)]})
+                    extra={"derive_seconds": derive_seconds[:len(orders)],
+                           "derive_cached": cached})
     for order in orders:
         response, seconds = _best_of(lambda o=order: frequency_response(f, frac, o,
                                                                         engine="numpy"))
@@ -137,8 +142,9 @@ def _series(quick: bool) -> Method:
 
 
 def _compile_orders(highest: int) -> list[float]:
-    """Derive and compile orders 0..``highest`` in turn; the seconds of each (the first
-    call in this process; a later call finds it in ``compile_series``'s cache)."""
+    """Derive and compile orders 0..``highest`` in turn (or import them from the disk);
+    the seconds of each (the first call in this process; a later call finds it in
+    ``compile_series``'s cache)."""
     seconds = []
     for order in range(highest + 1):
         start = time.perf_counter()

@@ -9,6 +9,7 @@ from numerics import Orbits, Status, compare
 from numerics._compare_backbone import compare_backbones
 from numerics._compare_response import SteadyCurve, compare_response, steady_curve
 from numerics.cli import main
+from perturb import frequency_response
 
 ORDERS = (2, 4, 6, 8, 10)
 
@@ -117,6 +118,11 @@ def test_unmatched_states_count_in_the_largest_error():
     assert result.unmatched.tolist() == [False, True]
     assert result.largest_error == pytest.approx(1 - 99.1 / 327.0, abs=2e-3)
     assert result.largest_matched_error < 1e-3
+    # compare() solves the series once for both models' curves and hands it in.
+    given = compare_response(curve, 4, grid, response=frequency_response(grid, 0.05, 4))
+    assert given.as_dict() == result.as_dict()
+    with pytest.raises(ValueError, match="of order 6 at P_a = 0.05 Q on another grid"):
+        compare_response(curve, 4, grid, response=frequency_response(grid, 0.05, 6))
 
 
 def test_backbone_limits_stop_at_contact_loss(backbones):

@@ -278,7 +278,16 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "imag": ("JSON of a complex array: its imaginary part", "", ""),
     # -- continuation (issue 13)
     "bifurcations": ("folds and period doublings met along continued branches: kind, "
-                     "frequency_hz, app_m, pa_frac", "", ""),
+                     "frequency_hz, app_m, pa_frac, located, frequency_tol_hz, pa_frac_tol",
+                     "", ""),
+    "located": ("a bifurcation located by Brent's method between two points of its branch "
+                "(true), or only marked at a point within one step of it (false: Newton "
+                "cannot correct between the two, a corner of the map)", "", ""),
+    "frequency_tol_hz": ("how far a bifurcation of the N-step period map may lie from its "
+                         "frequency_hz: Brent's tolerance when located, the step's reach "
+                         "in f_e when only marked; 0 when f_e was held fixed", "Hz", ""),
+    "pa_frac_tol": ("how far a bifurcation may lie from its pa_frac (as frequency_tol_hz, "
+                    "in P_a / Q); 0 when P_a was held fixed", "1", ""),
     "stable": ("per point of a continued branch, or per root of the series (null where "
                "unknown): both Floquet multipliers inside the unit circle", "", ""),
     "fmin_hz": ("lower end of the band of f_e a branch is continued in", "Hz", ""),

@@ -17,7 +17,10 @@ of the simulator's RK4 map at N fixed steps per period (``_continuation_map``).
   doubling): no Neimark-Sacker point can arise in this model.
 - Bifurcations: a fold where the f-component of t changes sign, a period doubling
   where det(M + I) does; each is located by Brent's method on the arclength,
-  to ``LOCATE_TOL`` in z, and inserted in the branch.
+  to ``LOCATE_TOL`` in z, and inserted in the branch. One that Brent's method cannot
+  locate (Newton cannot correct between the two points) is marked at a point of the
+  branch within one step, and says so (``Bifurcation.located``, with the step's reach
+  in the parameter as its tolerance).
 - App of every point: one batched run of one orbit period of all points
   (``record_periods``, one lane per point, Hermite-refined extrema).
 """
@@ -25,6 +28,7 @@ of the simulator's RK4 map at N fixed steps per period (``_continuation_map``).
 from __future__ import annotations
 
 import time
+from typing import NamedTuple
 
 import numpy as np
 from scipy.optimize import brentq
@@ -120,18 +124,43 @@ class ContinuedBranch(Result):
 class Bifurcation(Result):
     """A fold (a multiplier through +1) or a period doubling (through -1) on a branch.
 
-    ``kind`` is "fold" or "period-doubling" (in JSON it takes the place of the class
-    name: a bifurcation is read back through its parent).
+    Attributes
+    ----------
+    kind : str
+        "fold" or "period-doubling" (in JSON it takes the place of the class name: a
+        bifurcation is read back through its parent).
+    frequency_hz, app_m, pa_frac : float
+        Where it is: a point of its branch.
+    located : bool
+        Located by Brent's method between two points of the branch (to ``LOCATE_TOL``
+        in z, some 1.5e-5 Hz), or, where Newton cannot correct between them (a corner
+        of the map) or f merely turns, only marked at a point within one step of it.
+    frequency_tol_hz, pa_frac_tol : float
+        How far the bifurcation of the N-step period map may lie from ``frequency_hz``
+        and ``pa_frac`` (0 in the one held fixed): located, Brent's tolerance; marked,
+        the step's reach in the parameter (its length times the larger rate of the
+        parameter along the branch at its ends). Compare a sweep's jump with
+        ``frequency_hz`` to within the sweep's grid spacing plus ``frequency_tol_hz``.
     """
 
     kind: str
     frequency_hz: float
     app_m: float
     pa_frac: float
+    located: bool
+    frequency_tol_hz: float
+    pa_frac_tol: float
 
     def summary(self) -> str:
         return (f"Bifurcation: {self.kind} at {self.frequency_hz:.6g} Hz, App "
-                f"{self.app_m * 1e9:.4g} nm, P_a = {self.pa_frac:g} Q")
+                f"{self.app_m * 1e9:.4g} nm, P_a = {self.pa_frac:g} Q, {self.precision()}")
+
+    def precision(self) -> str:
+        """"located to +-x" or "marked within one step, +-x", in the parameter walked."""
+        how = "located to" if self.located else "marked within one step,"
+        if self.pa_frac_tol > self.frequency_tol_hz == 0.0:
+            return f"{how} +-{self.pa_frac_tol:.2g} Q"
+        return f"{how} +-{self.frequency_tol_hz:.2g} Hz"
 
 
 @result
@@ -168,8 +197,8 @@ class Continuation(Result):
 
     def table(self) -> str:
         lines = [f"  {b.summary()}" for b in self.branches]
-        lines += [f"  {b.kind:<16} {b.frequency_hz:>12.6f} Hz  App {b.app_m * 1e9:>9.4f} nm"
-                  for b in self.bifurcations]
+        lines += [f"  {b.kind:<16} {b.frequency_hz:>12.6f} Hz, {b.precision()}  App "
+                  f"{b.app_m * 1e9:>9.4f} nm" for b in self.bifurcations]
         return "\n".join(lines)
 
 
@@ -414,7 +443,7 @@ class _Walk:
         self.ds_max, self.max_angle, self.max_points = ds_max, max_angle, max_points
         self.points: list[Point] = []
         self.tangents: list[np.ndarray] = []
-        self.marks: list[tuple[int, str]] = []  # (index in points, kind)
+        self.marks: list[_Mark] = []
         self.status, self.message = Status.SUCCESS, ""
         self.orientation = 1.0  # the sign of det([J; t]) along the branch
         self.resume: float | None = None  # the step to resume with after a corner
@@ -464,10 +493,11 @@ class _Walk:
             self._mark_at_last(unlocated)
             self.bar.update(point.z[2] * self.shoot.scale[2], self.direction)
 
-    def _mark_at_last(self, kinds: list[str]) -> None:
-        """Bifurcations that Brent's method could not locate, marked at the last point
-        kept: within one step of where they are."""
-        self.marks += [(len(self.points) - 1, kind) for kind in kinds]
+    def _mark_at_last(self, unlocated: list[tuple[str, float]]) -> None:
+        """Bifurcations that Brent's method could not locate ((kind, reach) of each),
+        marked at the last point kept: within one step of where they are."""
+        self.marks += [_Mark(len(self.points) - 1, kind, False, reach)
+                       for kind, reach in unlocated]
 
     def _natural_step(self):
         """Past a corner that the arclength step cannot pass: a step in the parameter alone
@@ -562,11 +592,12 @@ class _Walk:
             ds *= _SHRINK
         return None
 
-    def _bifurcations(self, point: Point, t: np.ndarray) -> list[str]:
+    def _bifurcations(self, point: Point, t: np.ndarray) -> list[tuple[str, float]]:
         """Locate the folds and period doublings between the last point and ``point``
-        and keep them as points of the branch; returns the kinds of those it could not
-        locate (Newton cannot correct between the two points: a corner lies between, or
-        the step was one in f alone), to be marked at ``point``, not lost."""
+        and keep them as points of the branch; returns (kind, the step's reach,
+        ``_reach``) of those it could not locate (Newton cannot correct between the two
+        points: a corner lies between, or the step was one in f alone), to be marked at
+        ``point``, not lost."""
         base, t_base = self.points[-1], self.tangents[-1]
         tests = {"fold": lambda p, tp: tp[2],
                  "period-doubling": lambda p, tp: p.period_doubling_test}
@@ -580,11 +611,11 @@ class _Walk:
             if turns[kind] and test(base, t_base) * test(point, t) < 0:
                 located = self._locate(base, t_base, point, test)
                 if located is None:
-                    unlocated.append(kind)
+                    unlocated.append((kind, _reach(base, point)))
                 else:
                     found.append((located[0], kind, located[1], located[2]))
         for _, kind, p, tp in sorted(found, key=lambda item: item[0]):
-            self.marks.append((len(self.points), kind))
+            self.marks.append(_Mark(len(self.points), kind, True, LOCATE_TOL))
             self._keep(p, tp)
         return unlocated
 
@@ -635,6 +666,31 @@ class _NotLocated(Exception):
     pass
 
 
+class _Mark(NamedTuple):
+    """A bifurcation met by a walk: the index of its point in the walk's points, its kind,
+    whether Brent's method located it, and how far (in z, in the parameter) it may lie
+    from that point."""
+
+    index: int
+    kind: str
+    located: bool
+    reach: float
+
+
+def _reach(a: Point, b: Point) -> float:
+    """How far in the parameter (in z) a bifurcation between two consecutive points of a
+    branch may lie from either: the step's length times the larger rate of the parameter
+    along the branch (the tangent's parameter component) at its two ends. The tangent
+    turns by at most ``max_angle`` over a step, so the rate between them stays within
+    theirs (at a fold it passes through 0 between them)."""
+    chord = b.z - a.z
+    length = float(np.linalg.norm(chord))
+    if not length:
+        return 0.0
+    rates = [abs(p.tangent(chord / length, 1.0)[2]) for p in (a, b)]
+    return length * (max(rates) if np.isfinite(rates).all() else 1.0)  # |t| = 1 at most
+
+
 #: The steps in the parameter alone that ``_Walk._natural_step`` tries (in z: 1e-5 f_n0 is
 #: 0.015 Hz on the paper's model), how far the orbit may move in one (in z), and how many
 #: a walk may take.
@@ -659,7 +715,7 @@ _PLAIN = object()
 _MEET = 1e-2
 
 
-def _join(walks: list[_Walk]) -> list[tuple[list[Point], list[tuple[int, str]], Status, str]]:
+def _join(walks: list[_Walk]) -> list[tuple[list[Point], list[_Mark], Status, str]]:
     """Each branch's points (in the order of the walk up), marks, status and message: a
     walk down that ends where the walk up ended is the same branch, joined to it (with a
     fold where f turns back at the joint)."""
@@ -668,15 +724,17 @@ def _join(walks: list[_Walk]) -> list[tuple[list[Point], list[tuple[int, str]], 
         up, down = walks
         n_up, n_down = len(up.points), len(down.points)
         # The down walk's marks, indexed in its own points reversed (the order of f up).
-        down_marks = [(n_down - 1 - i, kind) for i, kind in reversed(down.marks)]
+        down_marks = [m._replace(index=n_down - 1 - m.index) for m in reversed(down.marks)]
         parts[1] = (down.points[::-1], down_marks, down.status, down.message, None)
         if n_up and n_down and np.abs(up.points[-1].z - down.points[-1].z).max() < _MEET:
             # Walked in opposite directions: f turns back at the joint when the two
-            # walks ended moving the same way in f.
+            # walks ended moving the same way in f (a fold between their ends, not
+            # located: Newton could not pass there).
             marks = list(up.marks)
             if up.tangents[-1][2] * down.tangents[-1][2] > 0:
-                marks.append((n_up - 1, "fold"))
-            joined = [(n_up + i, kind) for i, kind in down_marks]
+                marks.append(_Mark(n_up - 1, "fold", False,
+                                   _reach(up.points[-1], down.points[-1])))
+            joined = [m._replace(index=n_up + m.index) for m in down_marks]
             return [(up.points + down.points[::-1], marks + joined, Status.SUCCESS, "")]
     # A walk with no point is kept (as an empty branch): its status says why.
     return [part[:4] for part in parts]
@@ -692,17 +750,20 @@ def _unstable_count(point: Point) -> int:
 _FOLD_PROMINENCE = 1e-4
 
 
-def _significant_folds(points: list[Point], marks: list[tuple[int, str]]):
+def _significant_folds(points: list[Point], marks: list[_Mark]) -> list[_Mark]:
     """``marks`` with the folds that are significant turns of f (``_FOLD_PROMINENCE``):
-    per turn, the located fold nearest to it, or the turning point itself."""
+    per turn, the fold marked nearest to it, or the turning point itself (not located:
+    within a step either side)."""
     f = np.array([p.z[2] for p in points])
     turns = np.concatenate([find_peaks(sign * f, prominence=_FOLD_PROMINENCE)[0]
                             for sign in (1.0, -1.0)])
-    folds = np.array([i for i, kind in marks if kind == "fold"], dtype=int)
-    chosen = [int(folds[np.argmin(np.abs(folds - k))]) if folds.size
-              and np.abs(folds - k).min() <= 2 else int(k) for k in turns]
-    kept = [(i, kind) for i, kind in marks if kind != "fold"] + [(i, "fold") for i in chosen]
-    return sorted(set(kept))
+    folds = [m for m in marks if m.kind == "fold"]
+    at = np.array([m.index for m in folds], dtype=int)
+    chosen = [folds[np.argmin(np.abs(at - k))] if at.size and np.abs(at - k).min() <= 2
+              else _Mark(int(k), "fold", False, max(_reach(points[k - 1], points[k]),
+                                                    _reach(points[k], points[k + 1])))
+              for k in turns]
+    return sorted(set([m for m in marks if m.kind != "fold"] + chosen))
 
 
 def _results(shoot: PeriodMap, model, branches):
@@ -723,11 +784,20 @@ def _results(shoot: PeriodMap, model, branches):
                                    stable=stable, period=shoot.period, multipliers=multipliers,
                                    y_start_m=y[part], v_start_m_s=v[part], status=int(status),
                                    message=message))
-        marks += [(first + i, kind) for i, kind in branch_marks]
+        marks += [m._replace(index=first + m.index) for m in branch_marks]
         first += len(points)
-    bifurcations = [Bifurcation(kind=kind, frequency_hz=float(f[i]), app_m=float(app[i]),
-                                pa_frac=float(pa_frac[i])) for i, kind in marks]
-    return out, bifurcations
+    return out, [_bifurcation(shoot, model, m, f, app, pa_frac, parameter) for m in marks]
+
+
+def _bifurcation(shoot: PeriodMap, model, mark: _Mark, f, app, pa_frac, parameter):
+    """The ``Bifurcation`` of a mark, at its point of the branches' columns, with its
+    reach turned into tolerances of f_e and P_a / Q (0 in the one the walk held)."""
+    i = mark.index
+    (f_far,), (p_a_far,) = shoot.drives([parameter[i] + mark.reach * shoot.scale[2]])
+    return Bifurcation(kind=mark.kind, frequency_hz=float(f[i]), app_m=float(app[i]),
+                       pa_frac=float(pa_frac[i]), located=mark.located,
+                       frequency_tol_hz=abs(float(f_far - f[i])),
+                       pa_frac_tol=abs(float(p_a_far / model.parameters.Q_n - pa_frac[i])))
 
 
 def _app(model, shoot: PeriodMap, y, v, f, p_a) -> np.ndarray:

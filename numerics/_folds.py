@@ -66,7 +66,7 @@ from ._continuation import (
     continue_orbits,
 )
 from ._continuation import DEFAULTS as _CONTINUATION_DEFAULTS
-from ._continuation_map import _DF_REL, PeriodMap, Point
+from ._continuation_map import _DF_REL, NEWTON_TOL, PeriodMap, Point
 from ._lanes import Lanes
 from ._simulate import check_model
 
@@ -205,9 +205,12 @@ class FoldCurves(Result):
         w = np.unique(np.round(np.array(found), 9), axis=0)  # a crossing at a point: twice
         y, v, f, a = fold_map.physical(w)
         app = fold_map.app(y, v, f, a)
+        # Newton on the fold system stops at a step of NEWTON_TOL in w: f_e to that.
+        f_tol = NEWTON_TOL * fold_map.scale[2]
         return sorted((Bifurcation(kind="fold", frequency_hz=float(fi), app_m=float(ai),
-                                   pa_frac=float(pa_frac)) for fi, ai in zip(f, app)),
-                      key=lambda b: b.frequency_hz)
+                                   pa_frac=float(pa_frac), located=True,
+                                   frequency_tol_hz=f_tol, pa_frac_tol=0.0)
+                       for fi, ai in zip(f, app)), key=lambda b: b.frequency_hz)
 
 
 def resonance_name(m: int) -> str:

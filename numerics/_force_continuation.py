@@ -66,8 +66,8 @@ class ForceContinuation(Result):
 
     def table(self) -> str:
         lines = [f"  {b.summary()}" for b in self.branches]
-        lines += [f"  {b.kind:<16} P_a = {b.pa_frac:.6f} Q  App {b.app_m * 1e9:>9.4f} nm"
-                  for b in self.bifurcations]
+        lines += [f"  {b.kind:<16} P_a = {b.pa_frac:.6f} Q, {b.precision()}  App "
+                  f"{b.app_m * 1e9:>9.4f} nm" for b in self.bifurcations]
         return "\n".join(lines)
 
 

@@ -95,6 +95,12 @@ def test_the_015q_branch_passes_the_bouncing_fold_and_holds_every_stable_sweep_s
     (branch,) = run.branches
     assert branch.status == Status.SUCCESS
     assert [round(b.frequency_hz) for b in run.folds()] == [1333, 352]
+    # The bouncing fold lies between the ends of the two walks (corners Newton cannot
+    # pass): not located, marked there with the reach of that gap (measured 0.011 Hz);
+    # the primary fold is located by Brent's method, to 1e-8 f_n0.
+    assert [b.located for b in run.folds()] == [True, False]
+    assert run.folds()[0].frequency_tol_hz < 2e-5
+    assert 1e-3 < run.folds()[1].frequency_tol_hz < 0.05
     runs = sweep(np.arange(250.0, 1800.5, 5.0), 0.15)
     down = runs.run(0.15, "down")
     jumps = [float(down.frequency_hz[j]) for j in down.jumps()]
@@ -180,8 +186,11 @@ def test_json_reads_back(primary_005, tmp_path):
     assert set(data["branches"][0]) >= {"frequency_hz", "app_m", "stable", "period",
                                         "multipliers"}
     assert {b["kind"] for b in data["bifurcations"]} == {"fold"}
-    assert set(data["bifurcations"][0]) >= {"kind", "frequency_hz", "app_m", "pa_frac"}
+    assert set(data["bifurcations"][0]) >= {"kind", "frequency_hz", "app_m", "pa_frac",
+                                            "located", "frequency_tol_hz", "pa_frac_tol"}
+    assert [b["located"] for b in data["bifurcations"]] == [True, True]
     back = load(path)
+    assert all(isinstance(b.located, bool) for b in back.bifurcations)
     assert json.dumps(back.as_dict(), allow_nan=False) == json.dumps(primary_005.as_dict(),
                                                                     allow_nan=False)
     assert back.branches[0].stable.dtype == bool
@@ -215,18 +224,18 @@ def test_the_down_walks_marks_stay_on_its_own_branch():
     # pointed into the other branch or past the end.
     from types import SimpleNamespace
 
-    from numerics._continuation import _join
+    from numerics._continuation import _join, _Mark
 
     def walk(f0, df, n, marks, sign):
         return SimpleNamespace(points=[SimpleNamespace(z=np.array([0.0, 0.0, f0 + df * i]))
                                        for i in range(n)], marks=marks, status=Status.FAILED,
                                message="", tangents=[np.array([0.0, 0.0, sign])] * n)
 
-    up, down = walk(0.2, 0.01, 10, [(4, "fold")], 1.0), walk(1.2, -0.01, 5,
-                                                              [(3, "period-doubling")], -1.0)
+    fold, doubling = _Mark(4, "fold", True, 1e-8), _Mark(3, "period-doubling", False, 0.01)
+    up, down = walk(0.2, 0.01, 10, [fold], 1.0), walk(1.2, -0.01, 5, [doubling], -1.0)
     branches = _join([up, down])
     assert [(len(points), marks) for points, marks, *_ in branches] == [
-        (10, [(4, "fold")]), (5, [(1, "period-doubling")])]  # point 3 of 5, reversed: 1
+        (10, [fold]), (5, [doubling._replace(index=1)])]  # point 3 of 5, reversed: 1
 
 
 def test_no_orbit_to_start_from_is_said_not_dropped():
@@ -402,6 +411,10 @@ def test_continued_in_force_the_folds_are_where_continuation_in_f_folds():
     assert [b.kind for b in run.bifurcations] == ["fold", "fold"]
     up, down = sorted(b.pa_frac for b in run.bifurcations)[::-1]
     assert 0.04 < down < 0.05 < up < 0.07  # measured: 0.0456 and 0.0695 Q
+    # Located in P_a by Brent's method, to 1e-8 in z = P_a / Q; f_e was held.
+    for fold in run.bifurcations:
+        assert fold.located and fold.frequency_tol_hz == 0.0
+        assert fold.pa_frac_tol == pytest.approx(1e-8, rel=1e-6)  # round-off of P_a / Q
     for fold in run.bifurcations:
         in_f = continue_orbits(fold.pa_frac, 1300.0, 1500.0)
         gaps = [abs(b.frequency_hz - 1400.0) for b in in_f.folds()]
@@ -517,6 +530,27 @@ def test_the_force_continuation_figure(force_1400, tmp_path):
     assert inside.all(), dashed[~inside]
     marks = [line for line in ax.get_lines() if line.get_marker() == "o"]
     assert sorted(float(m.get_xdata()[0]) for m in marks) == [low, high]
+
+
+def test_a_bifurcation_not_located_is_drawn_hollow_with_its_tolerance(primary_005, tmp_path):
+    # A fold only marked within a step (Bifurcation.located false) must not look like one
+    # located to 1.5e-5 Hz: a hollow marker, an error bar of its frequency_tol_hz, and its
+    # own legend entry.
+    from dataclasses import replace
+
+    from numerics.plots import plot_continuation
+
+    located, other = primary_005.bifurcations
+    marked = replace(other, located=False, frequency_tol_hz=0.5)
+    run = replace(primary_005, bifurcations=[located, marked])
+    (ax,) = plot_continuation(run, tmp_path / "c.png").axes
+    folds = {float(line.get_xdata()[0]): line for line in ax.get_lines()
+             if line.get_marker() == "o"}
+    assert folds[located.frequency_hz].get_markerfacecolor() != "none"
+    assert folds[marked.frequency_hz].get_markerfacecolor() == "none"
+    (bar,) = [c for c in ax.collections if len(c.get_segments()) == 1]
+    assert np.allclose(bar.get_segments()[0][:, 0], marked.frequency_hz + np.array([-0.5, 0.5]))
+    assert "fold (not located)" in [t.get_text() for t in ax.get_legend().get_texts()]
 
 
 @pytest.mark.parametrize("options, message", [

@@ -15,6 +15,7 @@ from numerics._continuation import walk_band
 from numerics._continuation_map import ForceMap
 from numerics._walk_codegen import compiled_walk
 from perturb import LINEAR, ContactModel
+from perturb._cache import intact
 
 
 @pytest.fixture(scope="module")
@@ -99,7 +100,7 @@ def test_a_damaged_walk_file_is_written_and_compiled_again(tmp_path, monkeypatch
     path.write_text(path.read_text()[:200])  # truncated: a crash while writing
     monkeypatch.setattr(_walk_codegen, "_LOADED", {})
     walk = compiled_walk(model)
-    assert Path(walk.__file__) == path and _codegen._intact(path)
+    assert Path(walk.__file__) == path and intact(path)
     run = continue_orbits(0.02, 1300.0, 1600.0, model=model)
     assert run.settings["engine"] == "compiled" and run.branches[0].status == 0
 
@@ -124,14 +125,35 @@ def test_the_compiled_walk_reads_each_number_where_python_writes_it():
         assert walk.settings[getattr(module, name)] == value, name
 
 
-def test_a_bifurcation_that_cannot_be_located_is_marked_not_lost(monkeypatch):
+@pytest.mark.parametrize("engine", ["compiled", "python"])
+@pytest.mark.parametrize(("pa_frac", "band", "kind", "errors_hz", "reaches_hz"), [
+    # Measured: the doubling marked 0.63 Hz below where Brent locates it (the steps here
+    # are some 6 Hz in f), reach 6.2 Hz; the two folds of 0.05 Q marked 0.096 and 0.034 Hz
+    # away, reaches 0.20 and 0.12 Hz.
+    (1.25, (1500.0, 1700.0), "period-doubling", [0.63], [6.2]),
+    (0.05, (1300.0, 1600.0), "fold", [0.096, 0.034], [0.20, 0.12]),
+])
+def test_a_bifurcation_that_cannot_be_located_is_marked_not_lost(
+        monkeypatch, engine, pa_frac, band, kind, errors_hz, reaches_hz):
     # Where Newton cannot correct between two points (a corner between them), Brent's
-    # method fails: the doubling at 1.25 Q (1557.155 Hz when located) is then marked at
-    # the last point kept, within one step (measured 0.63 Hz below; the steps here are
-    # some 6 Hz in f).
+    # method fails: the bifurcation is then marked at the last point kept, within one
+    # step, and says so: not located, with the step's reach in f as its tolerance, which
+    # holds where Brent's method (not forced to fail) locates it.
     from numerics import _continuation as c
 
+    located = [b for b in continue_orbits(pa_frac, *band, engine=engine).bifurcations
+               if b.kind == kind]
+    assert [b.located for b in located] == [True] * len(errors_hz)
+    # Brent's xtol of 1e-8 in z, in f: 1e-8 f_n0 (1.5e-5 Hz).
+    assert all(b.frequency_tol_hz < 2e-5 and b.pa_frac_tol == 0.0 for b in located)
     monkeypatch.setattr(c._Walk, "_locate", lambda self, *args: None)
-    run = continue_orbits(1.25, 1500.0, 1700.0)
-    (doubling,) = [b for b in run.bifurcations if b.kind == "period-doubling"]
-    assert abs(doubling.frequency_hz - 1557.155) < 1.0
+    marked = [b for b in continue_orbits(pa_frac, *band, engine=engine).bifurcations
+              if b.kind == kind]
+    assert [b.located for b in marked] == [False] * len(errors_hz)
+    for at, near, error, reach in zip(located, marked, errors_hz, reaches_hz):
+        assert abs(near.frequency_hz - at.frequency_hz) < near.frequency_tol_hz
+        # Close to the measured error and reach (10 %): a change in either is seen.
+        assert abs(near.frequency_hz - at.frequency_hz) == pytest.approx(error, rel=0.1)
+        assert near.frequency_tol_hz == pytest.approx(reach, rel=0.1)
+        assert near.pa_frac_tol == 0.0
+        assert "marked within one step" in near.summary()

@@ -42,16 +42,24 @@ def plot_force_continuation(continuation, path=None) -> Figure:
     return _finish_one(figure, ax, path)
 
 
+#: The tolerance of each bifurcation's place, by the parameter continued.
+_TOLERANCES = {"frequency_hz": "frequency_tol_hz", "pa_frac": "pa_frac_tol"}
+
+
 def _mark_bifurcations(ax, bifurcations, along: str = "frequency_hz") -> None:
     """A marker at each fold and period doubling, at its ``along`` (the parameter that
-    was continued) and App; one legend entry per kind."""
+    was continued) and App; one legend entry per kind. One that was not located (only
+    marked within a step) is drawn hollow, with its tolerance as an error bar."""
     seen = set()
     for mark in bifurcations:
         style = dict(_MARKS[mark.kind])
-        label = style.pop("label")
-        label = None if mark.kind in seen else label
-        seen.add(mark.kind)
-        ax.semilogy([getattr(mark, along)], [mark.app_m * 1e9], ls="none", ms=5, label=label,
+        label = style.pop("label") + ("" if mark.located else " (not located)")
+        key = (mark.kind, mark.located)
+        label = None if key in seen else label
+        seen.add(key)
+        if not mark.located:
+            style |= {"mfc": "none", "xerr": getattr(mark, _TOLERANCES[along]), "capsize": 2}
+        ax.errorbar([getattr(mark, along)], [mark.app_m * 1e9], ls="none", ms=5, label=label,
                     **style)
 
 

@@ -63,7 +63,8 @@ def main() -> None:
         f = branch.frequency_hz
         print(f"  {branch.summary()}; f {f.min():.3f}-{f.max():.3f} Hz")
     for mark in run.bifurcations:
-        print(f"  {mark.kind} at {mark.frequency_hz:.4f} Hz, App {mark.app_m * 1e9:.2f} nm")
+        print(f"  {mark.kind} at {mark.frequency_hz:.4f} Hz, App {mark.app_m * 1e9:.2f} nm, "
+              f"{mark.precision()}")
     _beside_packages(run)
 
 

@@ -11,7 +11,6 @@ cached imports neither sympy nor anything that derives.
 
 from __future__ import annotations
 
-import hashlib
 import inspect
 import threading
 from pathlib import Path
@@ -24,15 +23,15 @@ from perturb._cache import (
     CacheWarning,
     cache_dir,
     cache_key,
-    import_generated,
+    intact,
+    load_generated,
     usable_cache_dir,
-    write_atomically,
 )
 
 if TYPE_CHECKING:
     import sympy as sp
 
-__all__ = ["compiled_kernels", "acceleration_source", "cache_dir", "CacheWarning"]
+__all__ = ["compiled_kernels", "kernels_built", "acceleration_source", "cache_dir", "CacheWarning"]
 
 _TEMPLATE = Path(__file__).with_name("_kernel_template.py")
 #: The compiled sweep, appended after the kernels (it reads _steady's constants).
@@ -151,7 +150,7 @@ def sweep_driver_built(model: ContactModel) -> bool:
     _DRIVERS_BUILT.pop(memo, None)
     path = usable_cache_dir() / f"kernel_{_cache_key(model)}.py"
     index = next(path.parent.glob(f"__pycache__/{path.stem}.sweep_lanes-*.nbi"), None)
-    if index is None or not _intact(path):
+    if index is None or not intact(path):
         return False
     _DRIVERS_BUILT[memo] = index
     return True
@@ -166,41 +165,37 @@ def forget_sweep_driver(model: ContactModel) -> None:
         stale.unlink(missing_ok=True)
 
 
-def _checksum(body: str) -> str:
-    return "# sha256 " + hashlib.sha256(body.encode()).hexdigest()
+#: The kernels compiled when the module is first loaded; the others (the Lyapunov
+#: exponent's, some 1 s to compile of a model's 7.7 s, 2026-11-23) at their first call,
+#: which a run that meets no lane that never settles (`make paper`) does not make.
+EAGER_KERNELS = ("advance_periods", "record_periods", "shoot_periods", "strobe_periods",
+                 "acceleration_batch")
 
 
-def _intact(path: Path) -> bool:
-    """Whether the file holds all the source it was written with (its first line is the
-    checksum of the rest): a truncated, emptied or edited file is not."""
-    try:
-        head, _, body = path.read_text().partition("\n")
-    except (OSError, UnicodeDecodeError):
-        return False
-    return head == _checksum(body)
+def kernels_built(model: ContactModel) -> bool:
+    """Whether ``model``'s kernel module is in the cache, whole, with numba's machine code
+    of every kernel of ``EAGER_KERNELS`` (loading it then compiles nothing)."""
+    path = usable_cache_dir() / f"kernel_{_cache_key(model)}.py"
+    return intact(path) and all(
+        next(path.parent.glob(f"__pycache__/{path.stem}.{name}-*.nbi"), None) is not None
+        for name in EAGER_KERNELS)
 
 
-def _remove(path: Path) -> None:
-    """The generated file and numba's machine code cached for it."""
-    for stale in [path, *path.parent.glob(f"__pycache__/{path.stem}.*")]:
-        stale.unlink(missing_ok=True)
-
-
-def _write(path: Path, model: ContactModel) -> None:
-    body = _module_source(model)
-    write_atomically(path, f"{_checksum(body)}\n{body}")
-
-
-def _import(path: Path, key: str) -> ModuleType:
-    return import_generated(path, f"_contact_kernel_{key}", _smoke)
+def _compiled_before(module: ModuleType, name: str) -> bool:
+    """Whether numba's cache holds machine code of the kernel ``name`` of ``module``."""
+    path = Path(module.__file__)
+    return next(path.parent.glob(f"__pycache__/{path.stem}.{name}-*.nbi"), None) is not None
 
 
 def _smoke(module: ModuleType) -> None:
-    """Call every kernel once on one lane, with the argument types of the real calls.
+    """Call every kernel once on one lane, with the argument types of the real calls:
+    those of ``EAGER_KERNELS``, and the others if numba's cache holds them.
 
     numba loads a kernel's machine code from its cache at the first call, not at
     import: a truncated or garbled cache file shows only here (and is then rebuilt
-    by ``_load``). Matching the real types, the calls load what the real ones use.
+    by ``_load``). Matching the real types, the calls load what the real ones use. A
+    kernel never compiled has no cache file to be garbled: it compiles at its first
+    call.
     """
     import numpy as np
 
@@ -215,23 +210,17 @@ def _smoke(module: ModuleType) -> None:
         np.empty((1, 0)), np.empty((1, 0)), np.empty((1, 0), dtype=np.int8),
         np.zeros(1, dtype=np.int64), np.empty((1, 0)), np.empty((1, 0)), lane)
     module.shoot_periods(*[a.copy() for a in state], drive, 1, np.empty((1, 2, 2)))
-    module.lyapunov_periods(*[a.copy() for a in state[:2]], np.ones(1), np.zeros(1),
-                            *[a.copy() for a in state[2:]], drive, 1.0, np.empty((1, 1)), 1,
-                            failed.copy(), 0, lane)
+    if _compiled_before(module, "lyapunov_periods"):
+        module.lyapunov_periods(*[a.copy() for a in state[:2]], np.ones(1), np.zeros(1),
+                                *[a.copy() for a in state[2:]], drive, 1.0, np.empty((1, 1)),
+                                1, failed.copy(), 0, lane)
     module.strobe_periods(*[a.copy() for a in state], drive, 1, np.empty((1, 1)),
                           np.empty((1, 1)), np.empty(1), failed.copy(), 0, lane)
     module.acceleration_batch(lane.copy(), lane.copy(), lane.copy())
 
 
 def _load(key: str, model: ContactModel) -> ModuleType:
-    path = usable_cache_dir() / f"kernel_{key}.py"
-    if path.exists() and not _intact(path):
-        _remove(path)  # corrupt or partial (a crash while writing, a full disk): rebuilt
-    if not path.exists():
-        _write(path, model)
-    try:
-        return _import(path, key)
-    except Exception:  # e.g. a broken numba cache beside an intact file: rebuild once
-        _remove(path)
-        _write(path, model)
-        return _import(path, key)
+    """The kernel module under ``key``, written, compiled and loaded by
+    ``perturb._cache.load_generated`` (a damaged file or numba cache: rebuilt once)."""
+    return load_generated(usable_cache_dir() / f"kernel_{key}.py", f"_contact_kernel_{key}",
+                          lambda: _module_source(model), _smoke)

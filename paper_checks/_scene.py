@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from numerics import compiled_kernels, steady_states
+from numerics._codegen import kernels_built
 from numerics.scenes import Scene, SceneRun, read_scene, run_scene
 from perturb import (
     EQ_2_6,
@@ -188,18 +189,28 @@ class PaperScene:
         The kernels the scenes share are compiled first, each by one worker at once
         (with an empty cache, every worker would otherwise compile each of them); the
         scenes of ``KERNEL_FREE`` and the series' formulas go meanwhile to a worker that
-        is free, the other scenes once the kernels are compiled.
+        is free, the other scenes once the kernels are compiled. Kernels already built
+        are loaded here, before the first task forks the workers, which then find them
+        loaded (numba's start and the loads, some 0.5 s, once instead of in each
+        process; this process needs them too, for the linear check).
         """
         wanted = [name for name in SCENE_FILES
                   if name in names and name not in self.runs | self._started]
-        compiled = [executor.submit(_compile, model) for model in KERNEL_MODELS]
-        for name in [name for name in wanted if name in KERNEL_FREE]:
+        built = [model for model in KERNEL_MODELS if kernels_built(model)]
+        for model in built:
+            compiled_kernels(model)
+        compiled = [executor.submit(_compile, model) for model in KERNEL_MODELS
+                    if model not in built]
+        # With nothing to compile, the scenes go longest first; else those that need no
+        # kernels and the formulas go first, to the worker that compiles the least.
+        early = [name for name in wanted if name in KERNEL_FREE] if compiled else []
+        for name in early:
             self._started[name] = executor.submit(run_job, self.variant(name), self.out)
-        if {"work-precision.toml", "comparison.toml"} & set(wanted):
+        if compiled and {"work-precision.toml", "comparison.toml"} & set(wanted):
             executor.submit(_derive_formulas)
         for done in compiled:
             done.result()
-        for name in [name for name in wanted if name not in KERNEL_FREE]:
+        for name in [name for name in wanted if name not in early]:
             self._started[name] = executor.submit(run_job, self.variant(name), self.out)
 
     def _run(self, timing: str, settings: str, *names: str) -> list[SceneRun]:

@@ -12,9 +12,13 @@ a process that finds them never imports sympy. The files sit in one folder,
   (``perturb._numbers``), KEY from the parameters;
 - ``kernel_KEY.py`` and numba's ``__pycache__/kernel_KEY.*``: the compiled
   simulator of one model (``numerics._codegen``), KEY from the parameters and
-  the effects.
+  the effects; ``walk_KEY.py`` its continuation walk (``numerics._walk_codegen``),
+  ``series_KEY.py`` the series' kernels of one order (``perturb._response_codegen``).
 
-Deleting the folder only costs the time to derive and compile again.
+A generated module is written with the checksum of its text as its first line and
+loaded by ``load_generated``: a file that is cut short, emptied or edited, or whose
+numba cache does not load, is written and compiled again. Deleting the folder only
+costs the time to derive and compile again.
 """
 
 from __future__ import annotations
@@ -28,12 +32,12 @@ import stat
 import sys
 import tempfile
 import warnings
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from types import ModuleType
 
 __all__ = ["CacheWarning", "cache_dir", "usable_cache_dir", "cache_key", "write_atomically",
-           "MODEL_SOURCES"]
+           "MODEL_SOURCES", "load_generated", "write_generated", "intact", "remove_generated"]
 
 #: The files of ``perturb`` that shape everything derived from the model.
 MODEL_SOURCES = tuple(Path(__file__).with_name(name) for name in
@@ -124,10 +128,76 @@ def cache_key(values: object, sources: Iterable[Path]) -> str:
 
 def write_atomically(path: Path, text: str) -> None:
     """Write ``text`` to ``path`` through a temporary file and a rename, so that a
-    parallel process never reads half a file."""
+    parallel process never reads half a file. If the write fails (a full disk, text
+    that cannot be encoded), the temporary file is removed and the error raised."""
     tmp = path.with_suffix(f".tmp{os.getpid()}")
-    tmp.write_text(text)
-    tmp.replace(path)
+    try:
+        tmp.write_text(text)
+        tmp.replace(path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def _checksum(body: str) -> str:
+    return "# sha256 " + hashlib.sha256(body.encode()).hexdigest()
+
+
+def write_generated(path: Path, body: str) -> None:
+    """Write the generated module ``body`` to ``path`` (atomically), with the checksum of
+    ``body`` as its first line (``intact`` checks it)."""
+    write_atomically(path, f"{_checksum(body)}\n{body}")
+
+
+def intact(path: Path) -> bool:
+    """Whether the file at ``path`` holds all the source it was written with by
+    ``write_generated`` (its first line is the checksum of the rest): a missing,
+    truncated, emptied or edited file is not."""
+    try:
+        head, _, body = path.read_text().partition("\n")
+    except (OSError, UnicodeDecodeError):
+        return False
+    return head == _checksum(body)
+
+
+def remove_generated(path: Path) -> None:
+    """Remove the generated module at ``path`` and numba's machine code cached for it
+    (``__pycache__/STEM.*`` beside it)."""
+    for stale in [path, *path.parent.glob(f"__pycache__/{path.stem}.*")]:
+        stale.unlink(missing_ok=True)
+
+
+def load_generated(path: Path, name: str, source: Callable[[], str],
+                   smoke: Callable[[ModuleType], None]) -> ModuleType:
+    """The generated module at ``path``, imported as ``name``: written first (from
+    ``source()``, the module's text) if it is missing or not ``intact`` (a crash while
+    writing, a full disk, an edit), then imported and ``smoke``-tested
+    (``import_generated``). If that fails (e.g. numba's cache files beside an intact
+    file are garbled), the file and numba's files of it are removed, written and
+    imported once more; an error then is raised.
+
+    Parameters
+    ----------
+    path : Path
+        The module's file in the cache folder (its name holds the cache key).
+    name : str
+        The module's name in ``sys.modules`` (another generated module may import it).
+    source : callable
+        Returns the module's text (without the checksum line); called only to write it.
+    smoke : callable
+        Called with the imported module; calls each compiled function once with the
+        argument types of the real calls, so that numba loads their machine code now.
+    """
+    if path.exists() and not intact(path):
+        remove_generated(path)  # cut short, emptied or edited: its machine code too
+    if not path.exists():
+        write_generated(path, source())
+    try:
+        return import_generated(path, name, smoke)
+    except Exception:  # e.g. a garbled numba cache beside an intact file: rebuilt once
+        remove_generated(path)
+        write_generated(path, source())
+        return import_generated(path, name, smoke)
 
 
 def import_generated(path: Path, name: str, smoke) -> ModuleType:

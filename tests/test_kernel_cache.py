@@ -12,8 +12,10 @@ warm command never imports sympy; they must be exactly what sympy derives, for t
 paper's model and another one, and a damaged numbers file is derived again.
 """
 
+import errno
 import json
 import os
+import sys
 import warnings
 
 import pytest
@@ -64,7 +66,7 @@ def test_a_damaged_kernel_file_is_rebuilt(cache, damage, no_first_calls):
               "edited": text.replace("def advance_periods", "def advance_period")}[damage]
     path.write_text(broken)
     module = _codegen._load(key, MODEL)
-    assert _codegen._intact(path) and path.read_text() == text
+    assert _cache.intact(path) and path.read_text() == text
     assert callable(module.advance_periods)
 
 
@@ -73,9 +75,10 @@ def test_an_intact_file_that_does_not_import_is_rebuilt(cache, no_first_calls):
     path = _path(cache)
     path.parent.mkdir(parents=True)
     body = "raise ImportError('a broken cache beside the file')\n"
-    path.write_text(f"{_codegen._checksum(body)}\n{body}")
+    _cache.write_generated(path, body)
+    assert _cache.intact(path)
     module = _codegen._load(key, MODEL)
-    assert callable(module.record_periods) and _codegen._intact(path)
+    assert callable(module.record_periods) and _cache.intact(path)
 
 
 def test_an_unwritable_cache_folder_falls_back_with_one_warning(monkeypatch):
@@ -117,6 +120,21 @@ def test_a_garbled_numba_cache_is_rebuilt(cache):
     module = _codegen._load(key, MODEL)
     assert callable(module.advance_periods)
     assert all(p.read_bytes() != b"garbage" for p in cache.glob("__pycache__/*.nb*"))
+
+
+def test_the_lyapunov_kernel_compiles_at_its_first_call_only(cache, monkeypatch):
+    # Loading compiles EAGER_KERNELS; the Lyapunov kernel (some 1 s of a model's 7.7 s)
+    # compiles when first called, and from then on loading checks its cache too.
+    key = _codegen._cache_key(MODEL)
+    assert not _codegen.kernels_built(MODEL)
+    module = _codegen._load(key, MODEL)
+    assert _codegen.kernels_built(MODEL)
+    assert not _codegen._compiled_before(module, "lyapunov_periods")
+    assert not list(cache.glob("__pycache__/*.lyapunov_periods-*"))
+    with monkeypatch.context() as patched:
+        patched.setattr(_codegen, "_compiled_before", lambda module, name: True)
+        _codegen._smoke(module)  # its first call
+    assert _codegen._compiled_before(module, "lyapunov_periods")
 
 
 @pytest.fixture
@@ -183,3 +201,113 @@ def test_numbers_in_an_unwritable_cache_folder(monkeypatch):
     _numbers._numbers.cache_clear()
     assert [w.category for w in caught] == [_codegen.CacheWarning]
     assert numbers == _eq26.derive_numbers(OTHER)
+
+
+# -- load_generated: the one loader of the generated modules (kernels, walk, series) and
+# write_atomically's temporary file. These use a tiny module without numba: its "machine
+# code" is a file in __pycache__ named as numba names its cache files.
+
+_GENERATED = "VALUE = 7\n\n\ndef value():\n    return VALUE\n"
+
+
+class _Source:
+    """The generated text, counting how often it is asked for (each time: written)."""
+
+    def __init__(self) -> None:
+        self.calls = 0
+
+    def __call__(self) -> str:
+        self.calls += 1
+        return _GENERATED
+
+
+def _smoke_ok(module) -> None:
+    assert module.value() == 7
+
+
+@pytest.fixture
+def generated(tmp_path, monkeypatch):
+    """The path of a generated module, its numba-like cache file, and the module's name
+    (forgotten by sys.modules after the test)."""
+    name = "_contact_test_generated"
+    monkeypatch.delitem(sys.modules, name, raising=False)
+    yield tmp_path / "gen_0123.py", tmp_path / "__pycache__" / "gen_0123.value-4.py312.nbi", name
+    sys.modules.pop(name, None)
+
+
+def _machine_code(cached) -> None:
+    cached.parent.mkdir(exist_ok=True)
+    cached.write_bytes(b"compiled")
+
+
+def test_a_missing_module_is_written_once_and_then_only_loaded(generated):
+    path, _, name = generated
+    source = _Source()
+    assert _cache.load_generated(path, name, source, _smoke_ok).value() == 7
+    assert _cache.intact(path) and source.calls == 1
+    assert _cache.load_generated(path, name, source, _smoke_ok).value() == 7
+    assert source.calls == 1  # found intact: not written again
+
+
+@pytest.mark.parametrize("damage", ["truncated", "emptied", "edited"])
+def test_a_damaged_module_is_written_again_and_its_machine_code_removed(generated, damage):
+    path, cached, name = generated
+    source = _Source()
+    _cache.load_generated(path, name, source, _smoke_ok)
+    _machine_code(cached)
+    text = path.read_text()
+    path.write_text({"truncated": text[: len(text) // 2], "emptied": "",
+                     "edited": text.replace("VALUE = 7", "VALUE = 8")}[damage])
+    assert not _cache.intact(path)
+    assert _cache.load_generated(path, name, source, _smoke_ok).value() == 7
+    assert source.calls == 2 and path.read_text() == text and not cached.exists()
+
+
+def test_a_module_whose_smoke_call_fails_is_rebuilt_once(generated):
+    # An intact file beside garbled machine code fails only when called (numba loads its
+    # cache at the first call): removed with its machine code, written, loaded again.
+    path, cached, name = generated
+    source = _Source()
+    _cache.write_generated(path, _GENERATED)
+    _machine_code(cached)
+    calls = []
+
+    def smoke(module):
+        calls.append(cached.exists())
+        if cached.exists():
+            raise RuntimeError("garbled machine code")
+
+    assert _cache.load_generated(path, name, source, smoke).value() == 7
+    assert calls == [True, False] and source.calls == 1 and _cache.intact(path)
+
+
+def test_a_module_that_fails_again_after_its_rebuild_raises(generated):
+    path, _, name = generated
+    source = _Source()
+
+    def smoke(module):
+        raise RuntimeError("always")
+
+    with pytest.raises(RuntimeError, match="always"):
+        _cache.load_generated(path, name, source, smoke)
+    assert source.calls == 2 and name not in sys.modules
+
+
+def test_a_failed_write_leaves_no_temporary_file(tmp_path, monkeypatch):
+    # Regression: write_atomically left its .tmpPID file behind when the write failed
+    # (a full disk); the file it replaces is left as it was.
+    path = tmp_path / "numbers_0123.json"
+    path.write_text("old")
+    with pytest.raises(UnicodeEncodeError):  # opened, then the text cannot be encoded
+        _cache.write_atomically(path, "a lone surrogate \ud800")
+    assert [p.name for p in tmp_path.iterdir()] == [path.name] and path.read_text() == "old"
+
+    def full_disk(self, text, *args, **kwargs):
+        with open(self, "w") as file:
+            file.write(text[:3])
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(type(path), "write_text", full_disk)
+    with pytest.raises(OSError, match="No space"):
+        _cache.write_atomically(path, "new text")
+    assert [p.name for p in tmp_path.iterdir()] == [path.name] and path.read_text() == "old"

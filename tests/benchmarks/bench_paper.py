@@ -6,11 +6,13 @@ issue 12: every scene and figure in one process, each PNG saved by ``savefig``),
 extracted with `git archive` and run with the same interpreter. The two routes run in
 turn, so that a drift in the machine's load falls on both alike; each cold run has an
 empty cache folder of its own (CONTACT_RESONANCES_CACHE), each warm run the folder of
-its route's first cold run (the kernels compiled, nothing else built: `make paper` run
-twice in a fresh clone). Without git (or that commit), the figures measured before the
-change are printed as the baseline instead, and the header says so. The new route also
-runs warm with `--jobs 1`, its scenes one after another in one process: the same code
-without the worker processes (the default is one worker per processor, `SCENE_JOBS`).
+its route's first cold run (the kernels compiled and the series' formulas written,
+no sweep driver or response kernel built: `make paper` run twice in a fresh clone).
+Without git (or that commit), the figures measured before the change are printed as
+the baseline instead, and the header says so. The new route also runs warm with
+`--jobs 1`, its scenes one after another in one process: the same code without the
+worker processes (the default is one worker per processor, each taking the next scene
+of `SCENE_FILES`).
 
 The drawing times are CPU seconds of one process that draws each figure of the report
 again from the same results (the scenes run once, then each plotting call is repeated),

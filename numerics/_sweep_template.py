@@ -47,6 +47,9 @@ _UNESTIMATED_SLACK = _st._UNESTIMATED_SLACK
 _DISTINCT_LAG = _st._DISTINCT_LAG
 _VERIFY_PERIODS = _st._VERIFY_PERIODS
 _VERIFY_SHRINK = _st._VERIFY_SHRINK
+_VERIFY_FIRST = _st._VERIFY_FIRST
+_VERIFY_LINEAR = _st._VERIFY_LINEAR
+_VERIFY_EARLY_SHRINK = _st._VERIFY_EARLY_SHRINK
 _CHUNK = _st._CHUNK
 _LONGEST_CHUNK = _st._LONGEST_CHUNK
 _CAP_FIRST = _st._CAP_PERIODS[0]
@@ -143,7 +146,8 @@ def _largest_modulus(mu0, mu1):
 @_jit
 def _newton(idx, y_start, v_start, p, span, reach, dt, p_a, omega, drive, tol, length,
             periods_run):
-    """_Batch.newton on the lanes ``idx`` (one batch: they iterate together)."""
+    """_Batch.newton on the lanes ``idx`` (one batch: they iterate together); also
+    returns the last monodromy matrices, which _follows takes."""
     n = idx.shape[0]
     y, v = y_start.copy(), v_start.copy()
     dt_g, p_a_g = dt[idx], p_a[idx]
@@ -181,27 +185,60 @@ def _newton(idx, y_start, v_start, p, span, reach, dt, p_a, omega, drive, tol, l
         largest = _largest_modulus(mu0, mu1)
         stable = (largest if largest == largest else np.inf) < 1.0
         ok[i] = converged[i] and near and stable
-    return ok, y, v, mult
+    return ok, y, v, mult, monodromy
+
+
+@_inline
+def _propagate(m, dy, dv, times):
+    """_steady._propagate of one lane: M^times (dy, dv), the same operations in order."""
+    for _ in range(times):
+        dy, dv = m[0, 0] * dy + m[0, 1] * dv, m[1, 0] * dy + m[1, 1] * dv
+    return dy, dv
 
 
 @_jit
-def _follows(idx, y, v, y_orbit, v_orbit, p, span, dt, p_a, omega, limit, drive, tol, length,
-             periods_run):
-    """_Batch.follows: whether a short march from (y, v) approaches the orbit."""
+def _follows(idx, y, v, y_orbit, v_orbit, p, span, monodromy, dt, p_a, omega, limit, drive, tol,
+             length, periods_run):
+    """_Batch.follows: whether a short march from (y, v) approaches the orbit, decided
+    after _VERIFY_FIRST periods where the march follows the orbit's linearisation."""
     n = idx.shape[0]
-    periods = _VERIFY_PERIODS - _VERIFY_PERIODS % p
+    full = _VERIFY_PERIODS - _VERIFY_PERIODS % p
+    first = max(_VERIFY_FIRST - _VERIFY_FIRST % p, p)
     ym, vm = y.copy(), v.copy()
-    # The states that _Batch.follows' strobe_periods reaches, without its samples.
-    advance_periods(ym, vm, dt[idx], p_a[idx], drive, periods,  # noqa: F821
-                    np.full(n, -1, dtype=np.int64), limit[idx])
+    before, scale = np.empty(n), np.empty(n)
+    for i in range(n):
+        scale[i] = _scale(span[i], length)
+        before[i] = _distance(y[i] - y_orbit[i], v[i] - v_orbit[i], omega[idx[i]], scale[i])
+    early = np.zeros(n, dtype=np.bool_)
+    if first < full:
+        _advance_verify(idx, ym, vm, first, dt, p_a, limit, drive, periods_run)
+        for i in range(n):
+            ey, ev = ym[i] - y_orbit[i], vm[i] - v_orbit[i]
+            ly, lv = _propagate(monodromy[i], y[i] - y_orbit[i], v[i] - v_orbit[i], first // p)
+            linear = (_distance(ey - ly, ev - lv, omega[idx[i]], scale[i])
+                      <= _VERIFY_LINEAR * before[i])
+            py, pv = _propagate(monodromy[i], ey, ev, (full - first) // p)
+            predicted = _distance(py, pv, omega[idx[i]], scale[i])
+            early[i] = linear and predicted < _VERIFY_EARLY_SHRINK * before[i]
+    rest = np.flatnonzero(~early)
+    ym_rest, vm_rest = ym[rest], vm[rest]
+    _advance_verify(idx[rest], ym_rest, vm_rest, full - (first if first < full else 0), dt, p_a,
+                    limit, drive, periods_run)
+    ym[rest], vm[rest] = ym_rest, vm_rest
     out = np.zeros(n, dtype=np.bool_)
     for i in range(n):
-        periods_run[idx[i]] += periods
-        scale = _scale(span[i], length)
-        before = _distance(y[i] - y_orbit[i], v[i] - v_orbit[i], omega[idx[i]], scale)
-        after = _distance(ym[i] - y_orbit[i], vm[i] - v_orbit[i], omega[idx[i]], scale)
-        out[i] = (after < _VERIFY_SHRINK * before) or (after < tol)
+        after = _distance(ym[i] - y_orbit[i], vm[i] - v_orbit[i], omega[idx[i]], scale[i])
+        out[i] = early[i] or (after < _VERIFY_SHRINK * before[i]) or (after < tol)
     return out
+
+
+@_inline
+def _advance_verify(lanes, y, v, periods, dt, p_a, limit, drive, periods_run):
+    """_Batch._march_verify: advance the lanes in place (failures are not kept)."""
+    advance_periods(y, v, dt[lanes], p_a[lanes], drive, periods,  # noqa: F821
+                    np.full(lanes.shape[0], -1, dtype=np.int64), limit[lanes])
+    for lane in lanes:
+        periods_run[lane] += periods
 
 
 @_inline
@@ -418,14 +455,15 @@ def _solve(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, continuation, 
             if not group.size:
                 continue
             reach = _REACH_POLISH if polish_only else _REACH_CONTINUATION
-            ok, yn, vn, mu = _newton(group, y[group], v[group], p, span[group], reach, dt,
-                                     p_a, omega, drive, tol, length, periods_run)
+            ok, yn, vn, mu, monodromy = _newton(group, y[group], v[group], p, span[group],
+                                                reach, dt, p_a, omega, drive, tol, length,
+                                                periods_run)
             if not polish_only:
                 chosen = np.flatnonzero(ok)
                 lanes_ok = group[chosen]
                 follows = _follows(lanes_ok, y[lanes_ok], v[lanes_ok], yn[chosen],
-                                   vn[chosen], p, span[lanes_ok], dt, p_a, omega, limit,
-                                   drive, tol, length, periods_run)
+                                   vn[chosen], p, span[lanes_ok], monodromy[chosen], dt, p_a,
+                                   omega, limit, drive, tol, length, periods_run)
                 ok[chosen[~follows]] = False
             _accept(fl, it, mult, group[ok], yn[ok], vn[ok], p, mu[ok], _M_NEWTON)
     rest = lanes[it[lanes, I_STATUS] != _SUCCESS]
@@ -441,7 +479,7 @@ def _solve(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, continuation, 
             if not group.size:
                 continue
             if use_newton:  # polish: the marched state is within about tol of the orbit
-                ok, yn, vn, mu = _newton(group, marched_y, marched_v, p, span_m[chosen],
+                ok, yn, vn, mu, _ = _newton(group, marched_y, marched_v, p, span_m[chosen],
                                          _REACH_POLISH, dt, p_a, omega, drive, tol, length,
                                          periods_run)
                 _accept(fl, it, mult, group[ok], yn[ok], vn[ok], p, mu[ok], _M_MARCH_NEWTON)

@@ -45,12 +45,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", default="out", type=output_dir,
                         help="output folder, created if its parent exists (default: out)")
     parser.add_argument("--quiet", action="store_true", help="print nothing but failures")
-    # One worker per processor by default: with the work-precision study and the
-    # comparison in one job (they share the series' orders), two workers measured 9.0
-    # and 9.5 s against 11.4 and 12.8 s for one process on the 2-core machine, second
-    # runs, medians of 3 and 4, when other work left about one processor idle (load
-    # about 1); at a load of 2 they gained nothing (12.4 s against 11.8 s, median of 4).
-    # 2026-11-23; make bench prints both.
+    # One worker per processor by default: two workers measured 9.0 and 9.5 s against
+    # 11.4 and 12.8 s for one process on the 2-core machine, second runs, medians of 3
+    # and 4, when other work left about one processor idle (load about 1); at a load of
+    # 2 they gained nothing (12.4 s against 11.8 s, median of 4). 2026-11-23, before
+    # the scenes became one task each (paper_checks/_scene.py); make bench prints both.
     parser.add_argument("--jobs", type=int_at_least(1), default=None,
                         help="worker processes that run the scenes and draw their figures "
                              "(default: one per processor; 1: all in this process)")

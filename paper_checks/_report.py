@@ -108,6 +108,7 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
         claims = run_claims(scene)
         work = scene.work_precision
         figures = draw_figures(scene)
+        scene.check_background()
     elapsed = time.perf_counter() - start
     lines = ["# The paper, checked and redrawn", "",
              "*Analysis of the primary and superharmonic contact resonances – Part 1*, "

@@ -162,6 +162,8 @@ class PaperScene:
         self.runs: dict[str, SceneRun] = {}
         self.figure_seconds: dict[str, float] = {}
         self._started: dict[str, Future] = {}
+        #: Tasks whose result nothing asks for (the formulas' derivation): ``check_background``.
+        self.background: list[Future] = []
 
     def _timed(self, name: str, settings: str, compute):
         start = time.perf_counter()
@@ -194,6 +196,7 @@ class PaperScene:
         loaded (numba's start and the loads, some 0.5 s, once instead of in each
         process; this process needs them too, for the linear check).
         """
+        names = set(names)
         wanted = [name for name in SCENE_FILES
                   if name in names and name not in self.runs | self._started]
         built = [model for model in KERNEL_MODELS if kernels_built(model)]
@@ -207,11 +210,16 @@ class PaperScene:
         for name in early:
             self._started[name] = executor.submit(run_job, self.variant(name), self.out)
         if compiled and {"work-precision.toml", "comparison.toml"} & set(wanted):
-            executor.submit(_derive_formulas)
+            self.background.append(executor.submit(_derive_formulas))
         for done in compiled:
             done.result()
         for name in [name for name in wanted if name not in early]:
             self._started[name] = executor.submit(run_job, self.variant(name), self.out)
+
+    def check_background(self) -> None:
+        """Wait for the background tasks; raise the error of one that failed."""
+        for task in self.background:
+            task.result()
 
     def _run(self, timing: str, settings: str, *names: str) -> list[SceneRun]:
         """The runs of the scenes ``names`` (waited for, or run here), timed as ``timing``:

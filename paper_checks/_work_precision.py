@@ -127,11 +127,10 @@ def _series(quick: bool) -> Method:
     ref = steady_states(f, frac * PAPER.Q_n, model=ContactModel(effects=EQ_2_6),
                         steps_per_period=1600, tol=1e-9)
     orders = SERIES_ORDERS[:5] if quick else SERIES_ORDERS
-    cached = [formulas_cached(order) for order in orders]
-    derive_seconds = _compile_orders(orders[-1] + ERROR_ORDERS)
+    derive_seconds, cached = _compile_orders(orders[-1] + ERROR_ORDERS)
     method = Method("series", "order N (numpy route)",
                     extra={"derive_seconds": derive_seconds[:len(orders)],
-                           "derive_cached": cached})
+                           "derive_cached": cached[:len(orders)]})
     for order in orders:
         response, seconds = _best_of(lambda o=order: frequency_response(f, frac, o,
                                                                         engine="numpy"))
@@ -141,16 +140,19 @@ def _series(quick: bool) -> Method:
     return method
 
 
-def _compile_orders(highest: int) -> list[float]:
-    """Derive and compile orders 0..``highest`` in turn (or import them from the disk);
-    the seconds of each (the first call in this process; a later call finds it in
-    ``compile_series``'s cache)."""
-    seconds = []
+def _compile_orders(highest: int) -> tuple[list[float], list[bool]]:
+    """Derive and compile orders 0..``highest`` in turn, or import them from the disk:
+    the seconds of each, and whether it was on the disk. The process's own cache of
+    ``compile_series`` is emptied first (another scene may have filled it in this
+    worker), so that each is a first call."""
+    compile_series.cache_clear()
+    seconds, cached = [], []
     for order in range(highest + 1):
+        cached.append(formulas_cached(order))
         start = time.perf_counter()
         compile_series(order)
         seconds.append(time.perf_counter() - start)
-    return seconds
+    return seconds, cached
 
 
 def _series_error(response, reference: np.ndarray) -> float:

@@ -13,7 +13,9 @@ a process that finds them never imports sympy. The files sit in one folder,
 - ``kernel_KEY.py`` and numba's ``__pycache__/kernel_KEY.*``: the compiled
   simulator of one model (``numerics._codegen``), KEY from the parameters and
   the effects; ``walk_KEY.py`` its continuation walk (``numerics._walk_codegen``),
-  ``series_KEY.py`` the series' kernels of one order (``perturb._response_codegen``).
+  ``series_KEY.py`` the series' kernels of one order (``perturb._response_codegen``);
+- ``formulas_KEY.py``: the series' lambdified formulas of one order
+  (``perturb._compiled``), KEY from the order and the series' sources.
 
 A generated module is written with the checksum of its text as its first line and
 loaded by ``load_generated``: a file that is cut short, emptied or edited, or whose
@@ -31,6 +33,7 @@ import shutil
 import stat
 import sys
 import tempfile
+import threading
 import warnings
 from collections.abc import Callable, Iterable
 from pathlib import Path
@@ -130,7 +133,9 @@ def write_atomically(path: Path, text: str) -> None:
     """Write ``text`` to ``path`` through a temporary file and a rename, so that a
     parallel process never reads half a file. If the write fails (a full disk, text
     that cannot be encoded), the temporary file is removed and the error raised."""
-    tmp = path.with_suffix(f".tmp{os.getpid()}")
+    # Process and thread: two threads of one process (compile_series has no lock) must
+    # not share a temporary file.
+    tmp = path.with_suffix(f".tmp{os.getpid()}-{threading.get_ident()}")
     try:
         tmp.write_text(text)
         tmp.replace(path)

@@ -75,3 +75,28 @@ def test_the_reports_warm_up_writes_every_order_and_keeps_none_in_memory(empty_c
     _derive_formulas()
     assert compile_series.cache_info().currsize == 0
     assert all(formulas_cached(n) for n in range(max(SERIES_ORDERS) + ERROR_ORDERS + 1))
+
+
+def test_formulas_that_cannot_be_written_are_still_given(empty_cache, monkeypatch):
+    # A full disk: the derived formulas are returned, with a warning, and not cached.
+    from perturb._cache import CacheWarning
+
+    def full_disk(path, body):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(_compiled, "write_generated", full_disk)
+    with pytest.warns(CacheWarning, match="order 2 are not cached"):
+        formulas = compile_series(2)
+    assert formulas.order == 2 and not formulas_cached(2)
+
+
+def test_the_work_precision_study_times_first_calls_and_says_where_from(empty_cache):
+    # Another scene may have filled this worker's memory (the comparison evaluates the
+    # same orders): the study empties it, then each order is imported from the disk.
+    from paper_checks._work_precision import _compile_orders
+
+    for order in range(3):
+        compile_series(order)  # on the disk and in memory
+    seconds, cached = _compile_orders(2)
+    assert cached == [True, True, True]
+    assert min(seconds) > 1e-5  # imports (about 1 ms each), not look-ups (about 1e-6 s)

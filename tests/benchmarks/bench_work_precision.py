@@ -6,8 +6,7 @@ against their error in A_pp; DOP853 at rtol 1e-9 is the baseline of each row.
 Then the study's own time (issue 12: `make paper` runs it), as the report runs it
 against the study with DOP853 also at rtol 1e-11 as it ran before 2026-11-23, in turn,
 median of STUDY_REPEATS, after a first run that derives and compiles the series' orders
-(every later run finds them in ``compile_series``'s cache, as the comparison scene of
-`make paper` does after the study).
+(every later run finds them in ``compile_series``'s cache, or on the disk).
 """
 
 from __future__ import annotations

@@ -682,13 +682,15 @@ def _reach(a: Point, b: Point) -> float:
     branch may lie from either: the step's length times the larger rate of the parameter
     along the branch (the tangent's parameter component) at its two ends. The tangent
     turns by at most ``max_angle`` over a step, so the rate between them stays within
-    theirs (at a fold it passes through 0 between them)."""
+    theirs (at a fold it passes through 0 between them). Across a corner of the map that
+    need not hold, so the reach is never below the chord's own move in the parameter."""
     chord = b.z - a.z
     length = float(np.linalg.norm(chord))
     if not length:
         return 0.0
     rates = [abs(p.tangent(chord / length, 1.0)[2]) for p in (a, b)]
-    return length * (max(rates) if np.isfinite(rates).all() else 1.0)  # |t| = 1 at most
+    by_rate = length * (max(rates) if np.isfinite(rates).all() else 1.0)  # |t| = 1 at most
+    return max(by_rate, abs(float(chord[2])))
 
 
 #: The steps in the parameter alone that ``_Walk._natural_step`` tries (in z: 1e-5 f_n0 is

@@ -96,7 +96,7 @@ def test_the_015q_branch_passes_the_bouncing_fold_and_holds_every_stable_sweep_s
     assert branch.status == Status.SUCCESS
     assert [round(b.frequency_hz) for b in run.folds()] == [1333, 352]
     # The bouncing fold lies between the ends of the two walks (corners Newton cannot
-    # pass): not located, marked there with the reach of that gap (measured 0.011 Hz);
+    # pass): not located, marked there with the reach of that gap (measured 0.087 Hz);
     # the primary fold is located by Brent's method, to 1e-8 f_n0.
     assert [b.located for b in run.folds()] == [True, False]
     assert run.folds()[0].frequency_tol_hz < 2e-5

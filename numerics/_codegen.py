@@ -84,17 +84,17 @@ def acceleration_source(model: ContactModel) -> str:
     """Python source of the generated right-hand side of the model, via lambdify.
 
     ``acceleration(y, v, force)`` is Eq. 2.4 for the chosen effects, and
-    ``acceleration_partials(y, v, force)`` its derivatives by y and by v (for the
-    monodromy matrix), both differentiated by sympy. The drive P(t) is replaced
-    by the argument ``force`` (the kernels tabulate it), and every parameter by
-    its value.
+    ``acceleration_partials(y, v, force)`` its derivatives by y, by v and by the force
+    (for the monodromy matrix and the derivative in P_a), all differentiated by sympy.
+    The drive P(t) is replaced by the argument ``force`` (the kernels tabulate it), and
+    every parameter by its value.
     """
     import sympy as sp
 
     from perturb import symbols
 
     accel = model.numeric_acceleration(_force_symbol())
-    partials = (sp.diff(accel, symbols.y), sp.diff(accel, symbols.v))
+    partials = [sp.diff(accel, s) for s in (symbols.y, symbols.v, _force_symbol())]
     guard = lambda e: _guard_contact_branch(e, symbols.y)  # noqa: E731
     # lambdify's "math" namespace: its source names math functions unqualified.
     return (
@@ -166,8 +166,9 @@ def forget_sweep_driver(model: ContactModel) -> None:
 
 
 #: The kernels compiled when the module is first loaded; the others (the Lyapunov
-#: exponent's, some 1 s to compile of a model's 7.7 s, 2026-11-23) at their first call,
-#: which a run that meets no lane that never settles (`make paper`) does not make.
+#: exponent's, some 1 s to compile of a model's 7.7 s, 2026-11-23, and continuation's
+#: ``shoot_jacobian``) at their first call, which a run that meets no lane that never
+#: settles and continues nothing (`make paper`) does not make.
 EAGER_KERNELS = ("advance_periods", "record_periods", "shoot_periods", "strobe_periods",
                  "acceleration_batch")
 
@@ -214,6 +215,9 @@ def _smoke(module: ModuleType) -> None:
         module.lyapunov_periods(*[a.copy() for a in state[:2]], np.ones(1), np.zeros(1),
                                 *[a.copy() for a in state[2:]], drive, 1.0, np.empty((1, 1)),
                                 1, failed.copy(), 0, lane)
+    if _compiled_before(module, "shoot_jacobian"):
+        module.shoot_jacobian(*[a.copy() for a in state], drive, 1, False,
+                              np.empty((1, 2, 3)))
     module.strobe_periods(*[a.copy() for a in state], drive, 1, np.empty((1, 1)),
                           np.empty((1, 1)), np.empty(1), failed.copy(), 0, lane)
     module.acceleration_batch(lane.copy(), lane.copy(), lane.copy())

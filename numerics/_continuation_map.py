@@ -7,9 +7,9 @@ A periodic orbit of period p T (T = 1 / f_e) is a zero of the residual
 where Phi_p is p periods of the very RK4 map the simulator iterates (Eq. 2.4,
 a fixed N steps per period, dt = 1 / (N f)): with N fixed, Phi_p is a smooth
 function of (x, f) while the slider stays in contact, and a piecewise smooth
-one through loss of contact (Eq. 2.1). d/dx is the monodromy matrix from the
-compiled tangent kernel (``shoot_periods``), d/df a central difference of two
-lanes run without the tangent (``advance_periods``).
+one through loss of contact (Eq. 2.1). d/dx, the monodromy matrix, and d/df come
+together from the compiled tangent kernel (``shoot_jacobian``): the exact
+derivatives of the discrete map, f entering it through the step dt = 1 / (N f).
 
 The unknowns are scaled to order one so that an arclength weighs them alike:
 z = (y / y0, v / (omega0 y0), f / f_n0).
@@ -30,15 +30,7 @@ from ._lanes import drive_table
 
 __all__ = ["ForceMap", "PeriodMap", "Point"]
 
-#: Relative step of the central difference in the parameter (f_e or P_a). Its error, the
-#: truncation (h^2: 1e-14) plus the round-off of one period over h (1e-13 / h: 1e-6),
-#: only slows Newton by that factor and tilts the tangent as little: a fold, where M - I
-#: is singular, does not move. It is small so that it rarely straddles a corner of the
-#: map: at 0.15 Q on the bouncing branch, +-1e-5 f did so often enough that Newton
-#: converged linearly there, and the walk took 20,918 evaluations of R where this takes
-#: some 12,700. (A forward difference, one lane fewer, turned the corners near 352 Hz
-#: into a dozen "folds": kept central.)
-_DF_REL = 1e-7
+_DF_REL = 1e-7  # the relative difference step of the fold curves (numerics._folds)
 #: Newton stops when the scaled update is below this (y to 1e-10 y0, some 2e-17 m on
 #: the paper's model; the round-off of one period of RK4 is about 1e-13 y0).
 NEWTON_TOL = 1e-10
@@ -114,9 +106,8 @@ class PeriodMap:
         self.scale = np.array([numbers.y0_m, numbers.omega0_rad_s * numbers.y0_m,
                                numbers.f_n0_hz])
         self.evaluations = 0  # of R from Python (the compiled walk's are not counted)
-        # Which drive is the parameter, the other one's value (P_a [N] here), and the
-        # least scale of the difference step (``difference_step``).
-        self.force_is_parameter, self.other, self.difference_floor = False, float(p_a_n), 0.0
+        # Which drive is the parameter, and the other one's value (P_a [N] here).
+        self.force_is_parameter, self.other = False, float(p_a_n)
 
     @cached_property
     def walker(self):
@@ -130,9 +121,8 @@ class PeriodMap:
 
     def newton_settings(self) -> list[float]:
         """The corrector's numbers for the compiled walk, in ``_walk_template``'s order:
-        tolerance, iterations, reach, backtracks, relative difference step, its floor."""
-        return [NEWTON_TOL, NEWTON_ITERATIONS, _NEWTON_REACH, _BACKTRACKS, _DF_REL,
-                self.difference_floor]
+        tolerance, iterations, reach, backtracks."""
+        return [NEWTON_TOL, NEWTON_ITERATIONS, _NEWTON_REACH, _BACKTRACKS]
 
     def physical(self, z: np.ndarray) -> tuple[float, float, float]:
         """(y [m], v [m/s], the parameter: f_e [Hz]) of a scaled point."""
@@ -152,39 +142,22 @@ class PeriodMap:
         """The parameter's value at z, for messages."""
         return f"f_e = {z[2] * self.scale[2]:.6g} Hz"
 
-    def difference_step(self, value: float) -> float:
-        """The step of the central difference in the parameter at ``value``."""
-        return _DF_REL * max(abs(value), self.difference_floor)
-
     def residual(self, z: np.ndarray):
-        """R (2,), its Jacobian dR/dz (2, 3) and the monodromy matrix (2, 2) at z."""
+        """R (2,), its Jacobian dR/dz (2, 3) and the monodromy matrix (2, 2) at z: one
+        orbit of the compiled tangent kernel."""
         y, v, value = self.physical(z)
-        h = self.difference_step(value)
-        orbit = self._run(np.array([y]), np.array([v]), np.array([value]), tangent=True)
-        ahead, behind = self._run(np.full(2, y), np.full(2, v), np.array([value + h, value - h]))
+        (freq,), (p_a,) = self.drives([value])
+        ys, vs, dt = np.array([y]), np.array([v]), np.array([1.0 / (self.steps * freq)])
+        exact = np.empty((1, 2, 3))
+        self.kernels.shoot_jacobian(ys, vs, dt, np.array([p_a]), self.drive, self.period,
+                                    self.force_is_parameter, exact)
         self.evaluations += 1
-        (y_end,), (v_end,), ((m00, m01), (m10, m11)) = orbit
-        dy, dv = self.scale[0], self.scale[1]
-        # D^-1 (M - I) D in the scaled state, then dR/d(parameter) by the central
-        # difference, scaled.
-        dp = self.scale[2] / (2.0 * h)
-        jacobian = np.array([[m00 - 1.0, m01 * dv / dy, (ahead[0] - behind[0]) * dp / dy],
-                             [m10 * dy / dv, m11 - 1.0, (ahead[1] - behind[1]) * dp / dv]])
-        return np.array([(y_end - y) / dy, (v_end - v) / dv]), jacobian, orbit[2]
-
-    def _run(self, y: np.ndarray, v: np.ndarray, parameter: np.ndarray, tangent=False):
-        """Phi_p of each lane, (y, v) in place: with the monodromy matrix of the first
-        lane, ``(y, v, M)``, if ``tangent``, else the lanes' end states ``[(y, v), ...]``
-        (the neighbours of the central difference need no tangent: a third of the cost)."""
-        freq, p_a = self.drives(parameter)
-        dt = 1.0 / (self.steps * freq)
-        if tangent:
-            monodromy = np.empty((1, 2, 2))
-            self.kernels.shoot_periods(y, v, dt, p_a, self.drive, self.period, monodromy)
-            return y, v, monodromy[0]
-        self.kernels.advance_periods(y, v, dt, p_a, self.drive, self.period,
-                                     np.full(y.size, -1, dtype=np.int64), np.full(y.size, np.inf))
-        return list(zip(y, v))
+        jacobian = exact[0] * (self.scale[None, :] / self.scale[:2, None])  # D_x^-1 J D_z
+        jacobian[:, :2] -= np.eye(2)  # R = Phi - x
+        if not self.force_is_parameter:
+            jacobian[:, 2] *= -dt[0] / freq  # by f through dt = 1 / (N f)
+        residual = (np.array([ys[0], vs[0]]) - [y, v]) / self.scale[:2]
+        return residual, jacobian, exact[0, :, :2].copy()
 
     def correct(self, z: np.ndarray, row: np.ndarray, target: float) -> Point | None:
         """Newton on R(z) = 0 with the one extra equation row . z = target (the
@@ -236,9 +209,7 @@ class ForceMap(PeriodMap):
                  engine: str = "auto") -> None:
         super().__init__(model, 0.0, steps, period, engine)
         self.scale[2] = model.parameters.Q_n
-        # f_e is fixed; the difference step is relative to Q: P_a may be near 0.
         self.force_is_parameter, self.other = True, float(f_hz)
-        self.difference_floor = float(model.parameters.Q_n)
 
     def label(self, z: np.ndarray) -> str:
         return f"P_a = {z[2]:.6g} Q"

@@ -5,7 +5,7 @@ a bent peak the response to a growing force folds too: App jumps up as P_a rises
 past one fold and down as it falls past the other. The same pseudo-arclength walk
 as ``continue_orbits`` (``_continuation``) follows the orbit, stable or not, with
 P_a in the place of f_e: the unknowns are z = (y / y0, v / (omega0 y0), P_a / Q)
-(``_continuation_map.ForceMap``), dR/dP_a a central difference, and folds and
+(``_continuation_map.ForceMap``), dR/dP_a the map's exact derivative, and folds and
 period doublings are located the same way, in P_a.
 """
 

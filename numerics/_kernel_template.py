@@ -170,7 +170,7 @@ def acceleration_batch(y, v, force):
 def tangent(y, v, dy, dv, force):
     """The state derivative (v, a) and its directional derivative along (dy, dv)."""
     a = acceleration(y, v, force)  # noqa: F821
-    a_y, a_v = acceleration_partials(y, v, force)  # noqa: F821
+    a_y, a_v, _ = acceleration_partials(y, v, force)  # noqa: F821
     return a, a_y * dy + a_v * dv
 
 
@@ -191,6 +191,44 @@ def rk4_step_tangent(y, v, dy, dv, dt, force_start, force_mid, force_end):
     dy_next = dy + dt / 6.0 * (dv + 2.0 * dv2 + 2.0 * dv3 + dv4)
     dv_next = dv + dt / 6.0 * (da1 + 2.0 * da2 + 2.0 * da3 + da4)
     return y_next, v_next, dy_next, dv_next
+
+
+@numba.njit(cache=True, inline="always")
+def stage_partials(y, v, force):
+    """a and its partials by y, v and the force at one stage: (a, a_y, a_v, a_force)."""
+    a_y, a_v, a_force = acceleration_partials(y, v, force)  # noqa: F821
+    return acceleration(y, v, force), a_y, a_v, a_force  # noqa: F821
+
+
+@numba.njit(cache=True, inline="always")
+def rk4_step_columns(y, v, dt, p_a, c0, ch, c1, dy, dv, dt_seed, p_a_seed):
+    """One RK4 step of one lane and its derivative along each column of (dy, dv) (in
+    place): the derivative of the discrete step by the start state, and, for a column
+    with ``dt_seed`` or ``p_a_seed`` 1, by dt or by P_a (the drive is P_a (c0, ch, c1)
+    at the step's stages). The stages' partials are computed once for all columns.
+    With both seeds 0 a column's arithmetic is that of ``rk4_step_tangent``, term for
+    term: the same numbers, to the last bit."""
+    a1, y1_y, y1_v, y1_f = stage_partials(y, v, p_a * c0)
+    y2, v2 = y + 0.5 * dt * v, v + 0.5 * dt * a1
+    a2, y2_y, y2_v, y2_f = stage_partials(y2, v2, p_a * ch)
+    y3, v3 = y + 0.5 * dt * v2, v + 0.5 * dt * a2
+    a3, y3_y, y3_v, y3_f = stage_partials(y3, v3, p_a * ch)
+    y4, v4 = y + dt * v3, v + dt * a3
+    a4, y4_y, y4_v, y4_f = stage_partials(y4, v4, p_a * c1)
+    sum_v = v + 2.0 * v2 + 2.0 * v3 + v4
+    sum_a = a1 + 2.0 * a2 + 2.0 * a3 + a4
+    for col in range(dy.shape[0]):
+        e1, g1, t, q = dy[col], dv[col], dt_seed[col], p_a_seed[col]
+        da1 = y1_y * e1 + y1_v * g1 + y1_f * q * c0
+        e2, g2 = e1 + 0.5 * dt * g1 + 0.5 * t * v, g1 + 0.5 * dt * da1 + 0.5 * t * a1
+        da2 = y2_y * e2 + y2_v * g2 + y2_f * q * ch
+        e3, g3 = e1 + 0.5 * dt * g2 + 0.5 * t * v2, g1 + 0.5 * dt * da2 + 0.5 * t * a2
+        da3 = y3_y * e3 + y3_v * g3 + y3_f * q * ch
+        e4, g4 = e1 + dt * g3 + t * v3, g1 + dt * da3 + t * a3
+        da4 = y4_y * e4 + y4_v * g4 + y4_f * q * c1
+        dy[col] = e1 + dt / 6.0 * (g1 + 2.0 * g2 + 2.0 * g3 + g4) + t / 6.0 * sum_v
+        dv[col] = g1 + dt / 6.0 * (da1 + 2.0 * da2 + 2.0 * da3 + da4) + t / 6.0 * sum_a
+    return y + dt / 6.0 * sum_v, v + dt / 6.0 * sum_a
 
 
 @numba.njit(cache=True)
@@ -227,6 +265,33 @@ def shoot_periods(y, v, dt, p_a, drive, periods, monodromy):
         monodromy[lane, 1, 0] = m[1, lane]
         monodromy[lane, 0, 1] = m[2, lane]
         monodromy[lane, 1, 1] = m[3, lane]
+
+
+@numba.njit(cache=True)
+def shoot_jacobian(y, v, dt, p_a, drive, periods, by_force, jacobian):
+    """``shoot_periods`` with a third column: ``jacobian[lane]`` is d(y, v)_end by
+    (y, v)_start and by dt (``by_force`` False) or by P_a (True), of the discrete map
+    itself (the residual's exact derivative in the parameter, for continuation).
+
+    One lane at a time, for continuation's one orbit: the stages' partials are shared by
+    the three columns (``shoot_periods`` recomputes them per column, with the lanes
+    innermost, which is faster for many lanes: 2026-11-23, 64 lanes at N = 1024, 0.48 ms
+    against 2.6 ms lane by lane).
+    """
+    steps = (drive.shape[0] - 1) // 2
+    # The columns' seeds: d/dy and d/dv at the start, then the parameter's.
+    dt_seed = np.array([0.0, 0.0, 0.0 if by_force else 1.0])
+    p_a_seed = np.array([0.0, 0.0, 1.0 if by_force else 0.0])
+    for lane in range(y.shape[0]):
+        dy, dv = np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
+        yy, vv, h, pa = y[lane], v[lane], dt[lane], p_a[lane]
+        for _ in range(periods):
+            for k in range(steps):
+                c0, ch, c1 = drive_at_step(drive, k)
+                yy, vv = rk4_step_columns(yy, vv, h, pa, c0, ch, c1, dy, dv, dt_seed, p_a_seed)
+        y[lane], v[lane] = yy, vv
+        jacobian[lane, 0, :] = dy
+        jacobian[lane, 1, :] = dv
 
 
 @numba.njit(cache=True)

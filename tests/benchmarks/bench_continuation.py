@@ -16,8 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from numerics import continue_orbits, sweep
-from perturb import ContactModel
+from numerics import compiled_kernels, continue_orbits, drive_table, sweep
+from perturb import ContactModel, eq26_numbers
 
 from ._pycont import (
     INSTALL,
@@ -57,6 +57,9 @@ def main() -> None:
         repeats=3)
     row("the walk at N = 512: compiled [s] vs Python (engine='python') [s]", compiled, python,
         "s", higher_is_better=False)
+    exact, differenced = _evaluation_routes(steps if isinstance(steps, int) else 1024)
+    row("one evaluation of R and its Jacobian: exact [ms] vs central difference in f [ms]",
+        exact, differenced, "ms", higher_is_better=False)
     points = sum(b.frequency_hz.size for b in run.branches)
     row("points on the continued branches", points)
     for branch in run.branches:
@@ -66,6 +69,32 @@ def main() -> None:
         print(f"  {mark.kind} at {mark.frequency_hz:.4f} Hz, App {mark.app_m * 1e9:.2f} nm, "
               f"{mark.precision()}")
     _beside_packages(run)
+
+
+def _evaluation_routes(steps: int) -> tuple[float, float]:
+    """Median times [ms] of one evaluation of R(z) with its Jacobian at the branch's N,
+    on an orbit of the bouncing branch: ``shoot_jacobian`` (one lane, the derivative in
+    f exact) against the route it replaced, ``shoot_periods`` (one lane) and a central
+    difference in f of two lanes of ``advance_periods``."""
+    model = ContactModel()
+    kernels, drive = compiled_kernels(model), drive_table(steps)
+    y0 = eq26_numbers(model.parameters).y0_m
+    state = (np.array([-27.0 * y0]), np.zeros(1), np.array([1.0 / (steps * 400.0)]),
+             np.array([PA_FRAC * model.parameters.Q_n]))
+
+    def exact():
+        kernels.shoot_jacobian(*[a.copy() for a in state], drive, 1, False, np.empty((1, 2, 3)))
+
+    def differenced():
+        kernels.shoot_periods(*[a.copy() for a in state], drive, 1, np.empty((1, 2, 2)))
+        y, v, dt, p_a = (np.repeat(a, 2) for a in state)
+        kernels.advance_periods(y, v, dt * np.array([1 + 1e-7, 1 - 1e-7]), p_a, drive, 1,
+                                np.full(2, -1), np.full(2, np.inf))
+
+    exact(), differenced()  # compiled
+    seconds = interleaved_medians(lambda: [exact() for _ in range(20)],
+                                  lambda: [differenced() for _ in range(20)], repeats=7)
+    return tuple(1e3 * t / 20 for t in seconds)
 
 
 def _beside_packages(run) -> None:

@@ -40,11 +40,16 @@ from pathlib import Path
 from types import ModuleType
 
 __all__ = ["CacheWarning", "cache_dir", "usable_cache_dir", "cache_key", "write_atomically",
-           "MODEL_SOURCES", "load_generated", "write_generated", "intact", "remove_generated"]
+           "MODEL_SOURCES", "SERIES_SOURCES", "load_generated", "write_generated", "intact",
+           "remove_generated"]
 
 #: The files of ``perturb`` that shape everything derived from the model.
 MODEL_SOURCES = tuple(Path(__file__).with_name(name) for name in
                       ("_model.py", "_effects.py", "_parameters.py", "_symbols.py", "_cache.py"))
+#: The files whose text shapes the series' formulas (``perturb._compiled``) and the
+#: response kernels generated from them (``perturb._response_codegen``).
+SERIES_SOURCES = (*MODEL_SOURCES, *(Path(__file__).with_name(name) for name in (
+    "_lindstedt.py", "_harmonics.py", "_series_symbols.py", "_compiled.py", "_eq26.py")))
 
 _WARNED: set[Path] = set()
 

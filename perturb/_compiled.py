@@ -40,7 +40,7 @@ import sympy as sp
 
 from . import _series_symbols as sym
 from ._cache import (
-    MODEL_SOURCES,
+    SERIES_SOURCES,
     CacheWarning,
     cache_key,
     import_generated,
@@ -51,12 +51,7 @@ from ._cache import (
 )
 from ._lindstedt import Series, derive, transfer
 
-__all__ = ["compile_series", "formulas_cached", "CompiledSeries", "complex_chain",
-           "SERIES_SOURCES"]
-
-#: The files whose text shapes the series' formulas: a change to one derives them again.
-SERIES_SOURCES = (*MODEL_SOURCES, *(Path(__file__).with_name(name) for name in (
-    "_lindstedt.py", "_harmonics.py", "_series_symbols.py", "_compiled.py", "_eq26.py")))
+__all__ = ["compile_series", "formulas_cached", "CompiledSeries", "complex_chain"]
 
 #: The arguments of every compiled formula, in order.
 A0 = sp.Symbol("A0", positive=True)

@@ -35,16 +35,14 @@ import threading
 from pathlib import Path
 from types import ModuleType
 
-from ._cache import MODEL_SOURCES, cache_key, intact, load_generated, usable_cache_dir
+from ._cache import SERIES_SOURCES, cache_key, intact, load_generated, usable_cache_dir
 
 __all__ = ["series_kernels", "series_kernels_built", "series_source"]
 
 _HERE = Path(__file__).parent
 _TEMPLATE = _HERE / "_response_template.py"
 #: The files whose text shapes a generated module (a change to one generates it again).
-_SOURCES = (*MODEL_SOURCES, *(_HERE / name for name in (
-    "_lindstedt.py", "_harmonics.py", "_series_symbols.py", "_compiled.py", "_eq26.py",
-)), Path(__file__), _TEMPLATE)
+_SOURCES = (*SERIES_SOURCES, Path(__file__), _TEMPLATE)
 _LOADED: dict[int, ModuleType] = {}
 #: A name of the generated code or a number: no arithmetic.
 _ATOM = re.compile(r"[ri]\d+|-?\d+(\.\d*)?(e[-+]?\d+)?")

@@ -117,8 +117,8 @@ def test_the_compiled_walk_reads_each_number_where_python_writes_it():
     expected = {"_DS_MIN": c._DS_MIN, "_DS_MAX": 0.03, "_MAX_ANGLE": 0.07, "_GROW": c._GROW,
                 "_SHRINK": c._SHRINK, "_CORNER_DS": c._CORNER_DS, "_EASY": c._EASY_ITERATIONS,
                 "_TOL": m.NEWTON_TOL, "_ITERATIONS": m.NEWTON_ITERATIONS,
-                "_REACH": m._NEWTON_REACH, "_BACKTRACKS": m._BACKTRACKS, "_F_LO": 0.01 / shoot.scale[2],
-                "_F_HI": 0.2 / shoot.scale[2]}
+                "_REACH": m._NEWTON_REACH, "_BACKTRACKS": m._BACKTRACKS,
+                "_F_LO": 0.01 / shoot.scale[2], "_F_HI": 0.2 / shoot.scale[2]}
     assert walk.settings.size == len(expected)
     for name, value in expected.items():
         assert walk.settings[getattr(module, name)] == value, name

@@ -83,11 +83,33 @@ def compile_times() -> list[tuple[float, float]]:
     return [tuple(float(x) for x in r) for r in runs]
 
 
+def one_lane_against_many(lanes: int = 64, steps: int = 1024) -> tuple[float, float]:
+    """ns per lane-step of ``shoot_periods`` (the state and monodromy, as a Newton step
+    needs) on one lane and on ``lanes`` lanes (of the same orbit): one lane waits on its
+    own chain of stages (latency), many lanes fill the core (throughput). Continuation
+    walks one orbit at a time, so it runs at the first figure."""
+    model = ContactModel()
+    kernels, drive = compiled_kernels(model), drive_table(steps)
+    y0, q = eq26_numbers(model.parameters).y0_m, model.parameters.Q_n
+
+    def run(n):
+        y, v = np.full(n, -27.0 * y0), np.zeros(n)
+        kernels.shoot_periods(y, v, np.full(n, 1.0 / (steps * 400.0)), np.full(n, 0.15 * q),
+                              drive, 4, np.empty((n, 2, 2)))
+
+    run(1), run(lanes)  # compiled / loaded
+    return tuple(1e9 * median_time(lambda n=n: run(n), repeats=7) / (4 * steps * n)
+                 for n in (1, lanes))
+
+
 def main() -> None:
     generated, textbook, lost = throughput()
     header(f"RK4 kernel: {LANES} lanes, full model, {lost:.0%} of lanes lose contact, one core")
     row("generated batched kernel [lane-steps/s]", generated, textbook, "/s")
     row("  goal [lane-steps/s]", 1e8, None)
+    many, one = one_lane_against_many()[::-1]
+    row("shoot_periods, 64 lanes [ns/lane-step] vs one lane [ns/step]", many, one, "ns",
+        higher_is_better=False)
     (import_cold, cold), (import_warm, warm) = compile_times()
     header("compile cost: a fresh process, empty cache (baseline) then cached")
     row("first simulate(), kernels cached on disk [s]", warm, cold, "s", higher_is_better=False)

@@ -271,11 +271,8 @@ def compare_response(
     """
     if response is None:
         response = frequency_response(grid, curve.pa_frac, order, parameters=parameters)
-    elif (response.order, response.pa_frac) != (order, curve.pa_frac) or not np.array_equal(
-            response.frequency_hz, grid):
-        raise ValueError(f"`response` is of order {response.order} at P_a = "
-                         f"{response.pa_frac} Q on another grid, not of order {order} at "
-                         f"{curve.pa_frac} Q on `grid`.")
+    elif differences := _differences(response, order, curve.pa_frac, grid):
+        raise ValueError(f"`response` is not the series asked for: {'; '.join(differences)}.")
     app_table, valid_table = _responses(response, grid)
     keep = curve.settled & np.isfinite(curve.app_m)
     frequency, app = curve.frequency_hz[keep], curve.app_m[keep]
@@ -294,6 +291,29 @@ def compare_response(
         unmatched=unmatched, largest_error=_largest(error, np.isfinite(error)),
         largest_matched_error=_largest(error, matched), peaks=peaks,
     )
+
+
+def _differences(response: Response, order: int, pa_frac: float, grid) -> list[str]:
+    """What sets a given ``response`` apart from the series of ``order`` at ``pa_frac`` on
+    ``grid`` (its order, its amplitude, its grid), each said; [] if nothing does."""
+    differences = []
+    if response.order != order:
+        differences.append(f"its order is {response.order}, not {order}")
+    if response.pa_frac != pa_frac:
+        differences.append(f"its P_a is {response.pa_frac} Q, not the curve's {pa_frac} Q")
+    theirs, ours = np.asarray(response.frequency_hz), np.asarray(grid)
+    if theirs.shape != ours.shape:
+        differences.append(f"its grid has {theirs.size} points ({_span(theirs)}), `grid` "
+                           f"{ours.size} ({_span(ours)})")
+    elif not np.array_equal(theirs, ours):
+        at = np.flatnonzero(theirs != ours)
+        differences.append(f"its grid differs from `grid` at {at.size} of {ours.size} "
+                           f"points, first at {theirs[at[0]]:g} Hz against {ours[at[0]]:g} Hz")
+    return differences
+
+
+def _span(grid: np.ndarray) -> str:
+    return f"{grid.min():g}-{grid.max():g} Hz" if grid.size else "none"
 
 
 def _largest(error: np.ndarray, where: np.ndarray) -> float:

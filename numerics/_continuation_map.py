@@ -30,7 +30,6 @@ from ._lanes import drive_table
 
 __all__ = ["ForceMap", "PeriodMap", "Point"]
 
-_DF_REL = 1e-7  # the relative difference step of the fold curves (numerics._folds)
 #: Newton stops when the scaled update is below this (y to 1e-10 y0, some 2e-17 m on
 #: the paper's model; the round-off of one period of RK4 is about 1e-13 y0).
 NEWTON_TOL = 1e-10

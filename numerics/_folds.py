@@ -20,7 +20,7 @@ here they are followed as curves of the (f_e, P_a) plane (issue 13, item 4).
   holds at the folds continued here: Newton converges quadratically on them). The
   model has no symmetry, so no pitchfork shares that condition.
 - **Derivatives.** R_x = M - I is the tangent kernel's; R_f, R_a and the gradient
-  of g are central differences (relative step 1e-5, as in ``_continuation_map``),
+  of g are central differences (relative step 1e-7, ``_H_OUTER``),
   all from one kernel call of nine lanes (w and w +- h e_i).
 - **Continuation.** Pseudo-arclength in w, with the predictor, the corrector
   (Newton with a line search, to 1e-10 in w) and the step control of
@@ -66,7 +66,7 @@ from ._continuation import (
     continue_orbits,
 )
 from ._continuation import DEFAULTS as _CONTINUATION_DEFAULTS
-from ._continuation_map import _DF_REL, NEWTON_TOL, PeriodMap, Point
+from ._continuation_map import PeriodMap, Point
 from ._lanes import Lanes
 from ._simulate import check_model
 
@@ -81,14 +81,29 @@ DEFAULTS = _CONTINUATION_DEFAULTS | {"max_points": 500}
 _ON_CURVE = 2e-3
 #: Seeds are searched at these shares of [pa_min, pa_max] when none are given.
 _SEED_SHARES = (1.0, 0.5)
-#: The relative step of the central differences in w (R_f, R_a and the gradient of g):
-#: d/df's in ``_continuation_map`` (truncation 1e-10, round-off 1e-9, far below Newton's
-#: tolerance; 1e-3 was tried and reached less far into loss of contact).
-_H_OUTER = _DF_REL
+#: The relative step of the central differences in w (R_f, R_a and the gradient of g).
+#: Their error, the truncation (h^2: 1e-14) plus the round-off of one period over h
+#: (1e-13 / h: 1e-6), only slows Newton by that factor: the fold it converges to does not
+#: move. Small, so that it rarely straddles a corner of the map (1e-3 was tried and
+#: reached less far into loss of contact).
+_H_OUTER = 1e-7
 #: A least a along a curve is a cusp only if the curve rises by this much (in P_a / Q) on
 #: both sides of it: at a corner of the map in loss of contact, t_a was seen to turn over
 #: 1e-4 Q (0.0991 Q, 755 Hz) with no second fold behind it.
 _CUSP_RISE = 1e-3
+#: How far (relative) the f_e of a fold that ``FoldCurves.folds_at`` corrects may lie from
+#: the fold of the N-step map: its ``frequency_tol_hz`` over f_e. Newton on the fold system
+#: converges quadratically there (3 iterations), so once its step is below NEWTON_TOL
+#: (1e-10 in w, 1.5e-7 Hz) the point is a root to the round-off of R and g, which then
+#: bounds f_e. Measured on the paper's model (tests/test_folds.py): within 5.2e-15 f_e of
+#: ``continue_orbits``' located folds (another route: Brent on the tangent, 15 folds of
+#: the three resonances, N = 512 and 2048), and Newton started 1e-6 away in (y, v, f)
+#: lands within a spread of 7.5e-15 f_e (the primary's folds from 0.07 % above its cusp
+#: to 0.045 Q). Stated: 2e-14, some 3 times the largest measured.
+FOLD_F_RTOL = 2e-14
+#: Two corrected points closer than this (in w) are one fold: Newton from two guesses
+#: lands on one fold within 1e-14, while two folds at one P_a lie 0.3 or more apart.
+_SAME_FOLD = 1e-9
 _E_A = np.array([0.0, 0.0, 0.0, 1.0])  # the row that fixes a
 _E_F = np.array([0.0, 0.0, 1.0, 0.0])  # the row that fixes f
 
@@ -185,7 +200,9 @@ class FoldCurves(Result):
 
     def folds_at(self, pa_frac: float) -> list[Bifurcation]:
         """The folds at one P_a / Q: each curve's crossings of that level, corrected by
-        Newton on the fold system with a fixed (not interpolated), ordered by f_e."""
+        Newton on the fold system with a fixed (not interpolated), ordered by f_e; each
+        f_e to the round-off of the period map (``frequency_tol_hz``: ``FOLD_F_RTOL``
+        times f_e)."""
         pa_frac = check_positive("pa_frac", pa_frac)
         fold_map = FoldMap(ContactModel.from_dict(self.model),
                            self.settings["steps_per_period"])
@@ -202,15 +219,23 @@ class FoldCurves(Result):
                     found.append(point.z)
         if not found:
             return []
-        w = np.unique(np.round(np.array(found), 9), axis=0)  # a crossing at a point: twice
-        y, v, f, a = fold_map.physical(w)
+        y, v, f, a = fold_map.physical(_distinct(found))
         app = fold_map.app(y, v, f, a)
-        # Newton on the fold system stops at a step of NEWTON_TOL in w: f_e to that.
-        f_tol = NEWTON_TOL * fold_map.scale[2]
         return sorted((Bifurcation(kind="fold", frequency_hz=float(fi), app_m=float(ai),
                                    pa_frac=float(pa_frac), located=True,
-                                   frequency_tol_hz=f_tol, pa_frac_tol=0.0)
+                                   frequency_tol_hz=FOLD_F_RTOL * float(fi), pa_frac_tol=0.0)
                        for fi, ai in zip(f, app)), key=lambda b: b.frequency_hz)
+
+
+def _distinct(points: list[np.ndarray]) -> np.ndarray:
+    """The points (rows of w) with those within ``_SAME_FOLD`` of an earlier one left out
+    (a crossing at a point of a curve is found twice). Unrounded: rounding them to tell
+    them apart cost f_e 7e-7 Hz, 1e5 times its round-off."""
+    kept: list[np.ndarray] = []
+    for z in points:
+        if all(np.abs(z - k).max() > _SAME_FOLD for k in kept):
+            kept.append(z)
+    return np.array(kept)
 
 
 def resonance_name(m: int) -> str:

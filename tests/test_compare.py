@@ -121,8 +121,24 @@ def test_unmatched_states_count_in_the_largest_error():
     # compare() solves the series once for both models' curves and hands it in.
     given = compare_response(curve, 4, grid, response=frequency_response(grid, 0.05, 4))
     assert given.as_dict() == result.as_dict()
-    with pytest.raises(ValueError, match="of order 6 at P_a = 0.05 Q on another grid"):
-        compare_response(curve, 4, grid, response=frequency_response(grid, 0.05, 6))
+    # A response that is not the series asked for is refused, saying what differs: only
+    # that (regression: the order's mismatch was said to be "on another grid").
+    mismatches = {
+        "order": (frequency_response(grid, 0.05, 6),
+                  "not the series asked for: its order is 6, not 4."),
+        "amplitude": (frequency_response(grid, 0.1, 4),
+                      "not the series asked for: its P_a is 0.1 Q, not the curve's 0.05 Q."),
+        "grid size": (frequency_response(np.array([1390.0, 1395.0, 1400.0]), 0.05, 4),
+                      "its grid has 3 points (1390-1400 Hz), `grid` 2 (1390-1395 Hz)."),
+        "grid points": (frequency_response(np.array([1390.0, 1396.0]), 0.05, 4),
+                        "its grid differs from `grid` at 1 of 2 points, first at 1396 Hz "
+                        "against 1395 Hz."),
+    }
+    for what, (response, message) in mismatches.items():
+        with pytest.raises(ValueError) as raised:
+            compare_response(curve, 4, grid, response=response)
+        assert str(raised.value).endswith(message), (what, str(raised.value))
+        assert str(raised.value).count(";") == 0, (what, str(raised.value))
 
 
 def test_backbone_limits_stop_at_contact_loss(backbones):

@@ -14,7 +14,7 @@ import pytest
 
 from common import Status, load
 from numerics import continue_orbits, simulate, sweep
-from perturb import EQ_2_6, PAPER, ContactModel, frequency_response
+from perturb import EQ_2_6, PAPER, ContactModel, eq26_numbers, frequency_response
 
 
 @pytest.fixture(scope="module")
@@ -95,14 +95,26 @@ def test_the_015q_branch_passes_the_bouncing_fold_and_holds_every_stable_sweep_s
     (branch,) = run.branches
     assert branch.status == Status.SUCCESS
     assert [round(b.frequency_hz) for b in run.folds()] == [1333, 352]
-    # The bouncing fold lies between the ends of the two walks (corners Newton cannot
-    # pass): not located, marked there with the reach of that gap (measured 0.087 Hz);
-    # the primary fold is located by Brent's method, to 1e-8 f_n0.
-    assert [b.located for b in run.folds()] == [True, False]
-    assert run.folds()[0].frequency_tol_hz < 2e-5
-    # Marked where the two walks join: their end points lie 0.087 Hz apart in f (the
-    # tangents' rates alone gave 0.011 Hz, less than the chord's own move).
-    assert run.folds()[1].frequency_tol_hz == pytest.approx(0.087, rel=0.05)
+    # Both folds are located by Brent's method. The primary fold is stated to its xtol,
+    # LOCATE_TOL in z: 1e-8 f_n0 (1.4856e-5 Hz; measured within 7.6e-9 of it, relative:
+    # it is taken as the difference of two f_e near 1333 Hz, each rounded to 2.3e-13 Hz).
+    # About the bouncing fold the map's corners make f zigzag (turns at 352.37-352.56 Hz):
+    # the one located is one of those turns, stated to the zigzag's spread about it
+    # (measured 0.135 Hz at N = 1024).
+    from numerics._continuation import LOCATE_TOL
+
+    assert [b.located for b in run.folds()] == [True, True]
+    primary, bouncing = run.folds()
+    assert primary.frequency_tol_hz == pytest.approx(LOCATE_TOL * eq26_numbers().f_n0_hz,
+                                                     rel=5e-8)
+    assert 0.05 < bouncing.frequency_tol_hz < 0.2
+    # Route 2: at four times the steps the zigzag is ten times narrower (measured:
+    # 352.422 +- 0.015 Hz, 0.061 Hz from the fold at N = 1024): it lies within the
+    # tolerance stated at N = 1024.
+    finer = continue_orbits(0.15, 250.0, 1800.0, steps_per_period=4096).folds()
+    assert [round(b.frequency_hz) for b in finer] == [1333, 352]
+    assert abs(finer[1].frequency_hz - bouncing.frequency_hz) <= bouncing.frequency_tol_hz
+    assert finer[1].frequency_tol_hz < 0.2 * bouncing.frequency_tol_hz
     runs = sweep(np.arange(250.0, 1800.5, 5.0), 0.15)
     down = runs.run(0.15, "down")
     jumps = [float(down.frequency_hz[j]) for j in down.jumps()]
@@ -196,6 +208,32 @@ def test_json_reads_back(primary_005, tmp_path):
     assert json.dumps(back.as_dict(), allow_nan=False) == json.dumps(primary_005.as_dict(),
                                                                     allow_nan=False)
     assert back.branches[0].stable.dtype == bool
+
+
+def test_a_file_saved_before_the_bifurcations_precision_loads(primary_005, tmp_path):
+    # Regression (review): files written before d3a1ac9 have no located, frequency_tol_hz
+    # or pa_frac_tol, and no longer loaded. They load with the precision unknown (None,
+    # NaN: those files also held bifurcations only marked, not told apart).
+    data = primary_005.as_dict()
+    for fold in data["bifurcations"]:
+        for key in ("located", "frequency_tol_hz", "pa_frac_tol"):
+            del fold[key]
+    path = tmp_path / "old.json"
+    path.write_text(json.dumps(data))
+    back = load(path)
+    assert [b.frequency_hz for b in back.bifurcations] == [
+        b.frequency_hz for b in primary_005.bifurcations]
+    for fold in back.bifurcations:
+        assert fold.located is None
+        assert np.isnan(fold.frequency_tol_hz) and np.isnan(fold.pa_frac_tol)
+        assert fold.precision() == "precision unknown (saved before it was recorded)"
+    assert "precision unknown" in str(back)
+    # Saved again, the unknowns are null in strict JSON, and read back the same.
+    back.to_json(tmp_path / "again.json")
+    again = json.loads((tmp_path / "again.json").read_text())["bifurcations"][0]
+    assert (again["located"], again["frequency_tol_hz"], again["pa_frac_tol"]) == (
+        None, None, None)
+    assert load(tmp_path / "again.json").bifurcations[0].located is None
 
 
 def test_bad_arguments_are_named():
@@ -406,7 +444,10 @@ def test_continued_in_force_the_folds_are_where_continuation_in_f_folds():
     # Issue 13, item 2: continuation in P_a at one f_e. At 1400 Hz, inside the bistable
     # band of the primary peak at 0.05 Q, the force-response curve folds twice; at each
     # fold's P_a, continuation in f_e has a fold at 1400 Hz (two routes: measured within
-    # 3e-12 Hz; the allowance is continue_orbits' own locating tolerance, 1.5e-5 Hz).
+    # 1.1e-12 and 4.3e-12 Hz. The allowance, 2e-11 Hz, is round-off (as the fold curves'
+    # FOLD_F_RTOL, 2e-14 of f_e), far inside the stated 1.5e-5 Hz: at a fold the
+    # parameter is stationary along the branch, so Brent's xtol of 1e-8 in the arclength
+    # moves it by its square).
     from numerics import continue_in_force
 
     run = continue_in_force(1400.0, 0.02, 0.08)
@@ -420,7 +461,7 @@ def test_continued_in_force_the_folds_are_where_continuation_in_f_folds():
     for fold in run.bifurcations:
         in_f = continue_orbits(fold.pa_frac, 1300.0, 1500.0)
         gaps = [abs(b.frequency_hz - 1400.0) for b in in_f.folds()]
-        assert min(gaps) < 1.5e-5, gaps
+        assert min(gaps) < 2e-11, gaps
     (branch,) = run.branches
     assert (branch.frequency_hz == 1400.0).all() and branch.pa_frac[0] == 0.02
     middle = (branch.pa_frac > down + 1e-3) & (branch.pa_frac < up - 1e-3)
@@ -502,11 +543,9 @@ def test_the_command_line_continues_in_the_force_amplitude(force_1400, tmp_path)
     folds = [round(b["pa_frac"], 4) for b in data["bifurcations"] if b["kind"] == "fold"]
     assert folds == [0.0695, 0.0456]
     # The same computation as the function's: measured identical to the last bit (JSON
-    # keeps every digit); the allowance is the folds' locating tolerance, 1e-8 in P_a / Q.
-    from numerics._continuation import LOCATE_TOL
-
-    assert np.allclose([b["pa_frac"] for b in data["bifurcations"]],
-                       [b.pa_frac for b in force_1400.bifurcations], rtol=0, atol=LOCATE_TOL)
+    # keeps every digit), and so asked.
+    assert [b["pa_frac"] for b in data["bifurcations"]] == [
+        b.pa_frac for b in force_1400.bifurcations]
     (branch,) = data["branches"]
     assert branch["pa_frac"][0] == 0.02 and branch["pa_frac"][-1] == 0.1
     assert set(branch["frequency_hz"]) == {1400.0}

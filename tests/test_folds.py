@@ -15,10 +15,8 @@ import pytest
 from common import Status, load
 from numerics import FoldCurves, continue_orbits, fold_curves
 
-#: continue_orbits locates a fold to LOCATE_TOL = 1e-8 in f / f_n0 (1.5e-5 Hz) along the
-#: arclength; the fold curve solves g = 0 to Newton's 1e-10. Measured: the two agree
-#: within 7e-7 Hz at every level below (1e-9 relative in App).
-F_TOL_HZ = 2e-5
+#: App of the fold on the curve against continuation's: measured within 2.2e-9 relative at
+#: every level below (App is not stationary at a fold: it carries Brent's 1e-8 in z).
 APP_RTOL = 1e-8
 
 #: (box fmin, fmax, pa_min, pa_max; seeds; levels checked; resonance m; cusp f, P_a as
@@ -31,23 +29,38 @@ CASES = {
 }
 
 
+@pytest.fixture(scope="module")
+def curves():
+    """The fold curves of every case (some 0.3 s each once compiled)."""
+    return {name: fold_curves(*CASES[name][0], seed_pa_fracs=CASES[name][1])
+            for name in CASES}
+
+
 @pytest.fixture(scope="module", params=list(CASES))
-def case(request):
-    box, seeds, *rest = CASES[request.param]
-    return fold_curves(*box, seed_pa_fracs=seeds), CASES[request.param]
+def case(request, curves):
+    return curves[request.param], CASES[request.param]
 
 
-def test_the_fold_curves_pass_through_the_folds_of_one_parameter_continuation(case):
-    folds, (box, _, levels, *_) = case
-    for pa in levels:
-        continued = continue_orbits(pa, box[0], box[1]).folds()
-        on_curves = folds.folds_at(pa)
-        assert continued, f"no fold at {pa} Q: the comparison would be empty"
-        for fold in continued:
-            gaps = [abs(c.frequency_hz - fold.frequency_hz) for c in on_curves]
-            nearest = on_curves[int(np.argmin(gaps))]
-            assert min(gaps) < F_TOL_HZ, (pa, fold, on_curves)
-            assert nearest.app_m == pytest.approx(fold.app_m, rel=APP_RTOL)
+def test_the_fold_curves_pass_through_the_folds_of_one_parameter_continuation(curves):
+    """Each fold continuation locates at a level lies on a fold curve, within the stated
+    ``frequency_tol_hz`` of the curve's fold there, which is not far looser than the gap."""
+    shares = []  # gap / stated tolerance of every fold of every case
+    for name, (box, _, levels, *_) in CASES.items():
+        for pa in levels:
+            continued = continue_orbits(pa, box[0], box[1]).folds()
+            on_curves = curves[name].folds_at(pa)
+            assert continued, f"no fold at {pa} Q: the comparison would be empty"
+            for fold in continued:
+                gaps = [abs(c.frequency_hz - fold.frequency_hz) for c in on_curves]
+                nearest = on_curves[int(np.argmin(gaps))]
+                assert min(gaps) <= nearest.frequency_tol_hz, (name, pa, fold, nearest)
+                assert nearest.app_m == pytest.approx(fold.app_m, rel=APP_RTOL)
+                shares.append(min(gaps) / nearest.frequency_tol_hz)
+    # Measured: the largest gap is 0.21 of the tolerance (5.9e-12 Hz at 1402.9 Hz, 0.045 Q;
+    # the 1/3 superharmonic's are 0.03 at most): a tolerance 10 times looser than every
+    # gap would no longer be the folds' round-off. (Before, the points were
+    # rounded to 1e-9 in w: gaps of 6.6e-7 Hz against a stated 1.5e-7 Hz.)
+    assert len(shares) == 15 and 0.1 <= max(shares) <= 1.0, shares
 
 
 def test_a_cusp_exists_and_below_it_continuation_finds_no_fold(case):

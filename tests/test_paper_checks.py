@@ -11,7 +11,13 @@ import pytest
 
 from numerics import sweep
 from numerics.scenes import run_scene
-from paper_checks._scene import CENSUS_SCENES, COMPARED_FRACTIONS, SCENES, paper_scene
+from paper_checks._scene import (
+    CENSUS_SCENES,
+    COMPARED_FRACTIONS,
+    KERNEL_FREE,
+    SCENES,
+    paper_scene,
+)
 from perturb import (
     EQ_2_6,
     FULL,
@@ -104,3 +110,40 @@ def test_the_fig2_fig3_scene_is_the_papers_sweep_bit_for_bit():
         for field in ("app_m", "status", "ymin_m"):
             assert np.array_equal(getattr(got, field), getattr(want, field), equal_nan=True), \
                 (field, got.pa_frac, got.direction)
+
+
+#: Run in a fresh interpreter (no kernel loaded yet): every way to compiled RK4 (the
+#: kernels' module, and the compiled walk's, which holds its own RK4 steps) refused, then
+#: the scenes of KERNEL_FREE, as `make paper` runs them; and, the negative control,
+#: Fig. 5's scene (400 periods of RK4), which must hit the refusal.
+_NO_KERNELS = """
+import numerics._codegen as codegen, numerics._walk_codegen as walk_codegen
+from numerics.scenes import run_scene
+from paper_checks._scene import KERNEL_FREE, paper_scene
+
+class Refused(Exception):
+    pass
+
+def refuse(*args, **kwargs):
+    raise Refused("a compiled RK4 module was loaded")
+
+codegen.load_generated = walk_codegen.load_generated = refuse
+for name in KERNEL_FREE:
+    run_scene(paper_scene(name))
+    print("ran", name)
+try:
+    run_scene(paper_scene("fig5.toml"))
+except Refused:
+    print("refused fig5.toml")
+"""
+
+
+def test_the_kernel_free_scenes_load_no_compiled_rk4():
+    # paper_checks starts KERNEL_FREE's scenes beside the kernels' compilation, before
+    # they exist: were one of them to run RK4, it would compile the kernels itself (or
+    # wait for them). Some 2 s (measured 0.3 s for fig4, 0.08 s for the backbone).
+    done = subprocess.run([sys.executable, "-c", _NO_KERNELS], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split("\n")[:-1] == [
+        *(f"ran {name}" for name in KERNEL_FREE), "refused fig5.toml"], done.stdout

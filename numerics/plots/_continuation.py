@@ -48,19 +48,27 @@ _TOLERANCES = {"frequency_hz": "frequency_tol_hz", "pa_frac": "pa_frac_tol"}
 
 def _mark_bifurcations(ax, bifurcations, along: str = "frequency_hz") -> None:
     """A marker at each fold and period doubling, at its ``along`` (the parameter that
-    was continued) and App; one legend entry per kind. One that was not located (only
-    marked within a step) is drawn hollow, with its tolerance as an error bar."""
+    was continued) and App, with its tolerance as an error bar (seen where it is wide:
+    a zigzag's spread, a step's reach); one legend entry per kind. One that was not
+    located (only marked within a step), or read from a file that did not say, is drawn
+    hollow."""
     seen = set()
     for mark in bifurcations:
         style = dict(_MARKS[mark.kind])
-        label = style.pop("label") + ("" if mark.located else " (not located)")
+        label = style.pop("label") + _HOW_LOCATED[mark.located]
         key = (mark.kind, mark.located)
         label = None if key in seen else label
         seen.add(key)
-        if not mark.located:
-            style |= {"mfc": "none", "xerr": getattr(mark, _TOLERANCES[along]), "capsize": 2}
+        tolerance = getattr(mark, _TOLERANCES[along])
+        style |= {"xerr": tolerance if np.isfinite(tolerance) else None, "capsize": 2}
+        if mark.located is not True:
+            style["mfc"] = "none"
         ax.errorbar([getattr(mark, along)], [mark.app_m * 1e9], ls="none", ms=5, label=label,
                     **style)
+
+
+#: The legend's words for ``Bifurcation.located``.
+_HOW_LOCATED = {True: "", False: " (not located)", None: " (precision unknown)"}
 
 
 def _finish_one(figure: Figure, ax, path) -> Figure:

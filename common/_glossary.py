@@ -287,8 +287,9 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "frequency_tol_hz": ("how far a bifurcation of the N-step period map may lie from its "
                          "frequency_hz: Brent's tolerance when located (a fold curve's "
                          "fold: the round-off of the period map), the step's reach in f_e "
-                         "when only marked; 0 when f_e was held fixed; null: unknown, read "
-                         "from a file saved before it was recorded", "Hz", ""),
+                         "when only marked, at least 1e-4 f_n0 at a fold about which f "
+                         "zigzags (the map's corners); 0 when f_e was held fixed; null: "
+                         "unknown, read from a file saved before it was recorded", "Hz", ""),
     "pa_frac_tol": ("how far a bifurcation may lie from its pa_frac (as frequency_tol_hz, "
                     "in P_a / Q); 0 when P_a was held fixed", "1", ""),
     "stable": ("per point of a continued branch, or per root of the series (null where "

@@ -307,8 +307,9 @@ def _differences(response: Response, order: int, pa_frac: float, grid) -> list[s
                            f"{ours.size} ({_span(ours)})")
     elif not np.array_equal(theirs, ours):
         at = np.flatnonzero(theirs != ours)
+        first = (float(theirs[at[0]]), float(ours[at[0]]))  # every digit: may be a rounding
         differences.append(f"its grid differs from `grid` at {at.size} of {ours.size} "
-                           f"points, first at {theirs[at[0]]:g} Hz against {ours[at[0]]:g} Hz")
+                           f"points, first at {first[0]!r} Hz against {first[1]!r} Hz")
     return differences
 
 

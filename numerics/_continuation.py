@@ -51,7 +51,7 @@ DEFAULTS = {"steps_per_period": "auto", "ds_max": 0.02, "max_angle": 0.1, "max_p
 #: (taken for folds) and stops at 398 Hz, N = 512 none and reaches 355 Hz.
 _AUTO_MIN_STEPS = 512
 #: "auto" doubles N, up to this, while a walk stops inside the band at a corner: at 0.15 Q
-#: the walks stop 4.6 Hz apart near the bouncing fold at 512 steps, and the branch passes
+#: the walks stop 11 Hz apart near the bouncing fold at 512 steps, and the branch passes
 #: it (the fold at 352.4 Hz, where a 1024-step sweep jumps) at 1024.
 _AUTO_MAX_STEPS = 2048
 #: How the message of a walk that stopped at a corner begins.
@@ -63,7 +63,7 @@ _GROW, _SHRINK = 1.5, 0.5
 #: corner of the branch, not at a fold (the map is only piecewise smooth through loss
 #: of contact): the step is accepted. A fold within it is still seen (f turns) and
 #: located. At 0.15 Q, N = 1024, 1e-4 took 6528 points (3298 steps below 5e-3, in the
-#: bouncing fold's zigzag), 1e-3 takes 4896, in some 0.7 of the time (2026-11-23).
+#: bouncing fold's zigzag), 1e-3 takes 4896 (2026-11-23).
 _CORNER_DS = 1e-3
 _EASY_ITERATIONS = 3  # Newton converging within this many iterations grows the step
 #: Brent's method locates a bifurcation to this arclength in z: f to about 1e-5 Hz on
@@ -144,8 +144,9 @@ class Bifurcation(Result):
         and ``pa_frac`` (0 in the one held fixed): located, Brent's tolerance; marked,
         the step's reach in the parameter (its length times the larger rate of the
         parameter along the branch at its ends). A fold about which the map's corners
-        make f zigzag (each turn a fold of the discrete map) has, at least, the spread
-        of those turns about it: some 0.13 Hz at the bouncing fold, 0.15 Q. Compare a
+        make f zigzag (each turn a fold of the discrete map, closer than the 1e-4 f_n0
+        that tells folds apart) is known to that resolution: 1e-4 f_n0 at least
+        (0.149 Hz on the paper's model). Compare a
         sweep's jump with ``frequency_hz`` to within the sweep's grid spacing plus
         ``frequency_tol_hz``.
         NaN (null in JSON): unknown, in a file saved before these fields existed.
@@ -787,28 +788,27 @@ def _significant_folds(points: list[Point], marks: list[_Mark]) -> list[_Mark]:
               else _Mark(int(k), "fold", False, max(_reach(points[k - 1], points[k]),
                                                     _reach(points[k], points[k + 1])))
               for k in turns]
-    chosen = [m._replace(reach=max(m.reach, _zigzag_spread(f, k, m.index)))
+    chosen = [m._replace(reach=max(m.reach, _FOLD_PROMINENCE)) if _zigzags(f, k) else m
               for m, k in zip(chosen, turns)]
     return sorted(set([m for m in marks if m.kind != "fold"] + chosen))
 
 
-def _zigzag_spread(f: np.ndarray, turn: int, chosen: int) -> float:
-    """How far (in z) f's other turns about the significant turn at index ``turn`` lie
-    from f at ``chosen``, the point reported as the fold: 0 at a smooth fold.
+def _zigzags(f: np.ndarray, turn: int) -> bool:
+    """Whether f turns again about the significant turn at index ``turn``: within the run
+    of points about it whose f stays within ``_FOLD_PROMINENCE`` of f there.
 
     Near a fold of a bouncing orbit the fixed-step map's corners make f zigzag: the
-    branch turns back and forth, each turn a fold of the discrete map, within some
-    0.2 Hz at 0.15 Q, N = 1024 (352.37-352.56 Hz). Which of them the walk locates
-    depends on its steps; the branch's fold is known only to within that spread.
-    The zigzag is the run of points about ``turn`` whose f stays within
-    ``_FOLD_PROMINENCE`` of f there.
+    branch turns back and forth, each turn a fold of the discrete map (at 0.15 Q,
+    N = 1024, f turns some 75 times within 352.36-353.34 Hz). Turns closer than
+    ``_FOLD_PROMINENCE`` are not told apart as folds, and which of them a walk locates
+    depends on its steps: such a fold is known to that resolution, not to Brent's.
     """
     far = np.flatnonzero(np.abs(f - f[turn]) > _FOLD_PROMINENCE)
     first = far[far < turn].max(initial=-1) + 1
     last = far[far > turn].min(initial=f.size)
-    run = f[first:last]
-    turns = first + 1 + np.flatnonzero(np.diff(np.sign(np.diff(run))) != 0)
-    return float(np.abs(f[turns] - f[chosen]).max(initial=0.0))
+    moves = np.diff(f[first:last])
+    moves = moves[moves != 0.0]  # a point repeated (a located fold beside its step)
+    return bool((np.sign(moves[1:]) != np.sign(moves[:-1])).sum() > 1)
 
 
 def _results(shoot: PeriodMap, model, branches):

@@ -95,11 +95,11 @@ _CUSP_RISE = 1e-3
 #: the fold of the N-step map: its ``frequency_tol_hz`` over f_e. Newton on the fold system
 #: converges quadratically there (3 iterations), so once its step is below NEWTON_TOL
 #: (1e-10 in w, 1.5e-7 Hz) the point is a root to the round-off of R and g, which then
-#: bounds f_e. Measured on the paper's model (tests/test_folds.py): within 5.2e-15 f_e of
+#: bounds f_e. Measured on the paper's model (tests/test_folds.py): within 4.2e-15 f_e of
 #: ``continue_orbits``' located folds (another route: Brent on the tangent, 15 folds of
-#: the three resonances, N = 512 and 2048), and Newton started 1e-6 away in (y, v, f)
-#: lands within a spread of 7.5e-15 f_e (the primary's folds from 0.07 % above its cusp
-#: to 0.045 Q). Stated: 2e-14, some 3 times the largest measured.
+#: the three resonances, N = 512 and 2048); Newton started 1e-6 away in (y, v, f) landed
+#: within a spread of 7.5e-15 f_e (a one-off check, not in the tests: the primary's folds
+#: from 0.07 % above its cusp to 0.045 Q). Stated: 2e-14, some 3 times the largest.
 FOLD_F_RTOL = 2e-14
 #: Two corrected points closer than this (in w) are one fold: Newton from two guesses
 #: lands on one fold within 1e-14, while two folds at one P_a lie 0.3 or more apart.

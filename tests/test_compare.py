@@ -131,8 +131,8 @@ def test_unmatched_states_count_in_the_largest_error():
         "grid size": (frequency_response(np.array([1390.0, 1395.0, 1400.0]), 0.05, 4),
                       "its grid has 3 points (1390-1400 Hz), `grid` 2 (1390-1395 Hz)."),
         "grid points": (frequency_response(np.array([1390.0, 1396.0]), 0.05, 4),
-                        "its grid differs from `grid` at 1 of 2 points, first at 1396 Hz "
-                        "against 1395 Hz."),
+                        "its grid differs from `grid` at 1 of 2 points, first at 1396.0 Hz "
+                        "against 1395.0 Hz."),
     }
     for what, (response, message) in mismatches.items():
         with pytest.raises(ValueError) as raised:

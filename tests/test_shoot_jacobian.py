@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from numerics import compiled_kernels, drive_table
+from numerics._continuation_map import ForceMap, PeriodMap
 from perturb import ContactModel, eq26_numbers
 
 STEPS = 256
@@ -49,8 +50,10 @@ def test_its_state_and_monodromy_are_shoot_periods_to_the_last_bit(lanes, by_for
 
 #: Measured (2026-11-23) at h = 1e-3 of dt (of P_a): the smooth lanes' differences
 #: are 1.9e-5 and 4.8e-6 (6.9e-10 and 2.5e-9) off the column, a hundredth of those at
-#: 1e-2; the bouncing lane's 1.5e-2 (7.6e-8): a corner of the map lies within h.
+#: 1e-2; the bouncing lane's 1.5e-2 (7.6e-8): a corner of the map lies within h. The
+#: two extrapolated (Richardson, h^2) lie 1.2e-8 and 3.6e-9 (2.1e-11, 3.6e-12) off.
 FINE_ERROR = {False: 4e-5, True: 5e-9}
+EXTRAPOLATED_ERROR = {False: 3e-8, True: 6e-11}
 
 
 @pytest.mark.parametrize("by_force", [False, True])
@@ -61,15 +64,50 @@ def test_its_parameter_column_is_the_limit_of_central_differences(lanes, by_forc
     _, _, jacobian = _jacobian(lanes, by_force)
     dt, p_a = 1 / (STEPS * lanes["f"]), lanes["p_a"]
     base = p_a if by_force else dt
-    errors = []
+    column = jacobian[:, :, 2]
+    numerics = []
     for rel in (1e-2, 1e-3):
         h = rel * base
         ends = [(dt, p_a + s * h) if by_force else (dt + s * h, p_a) for s in (1, -1)]
-        numeric = (_period_map(lanes, *ends[0]) - _period_map(lanes, *ends[1])) / (
-            2 * h[:, None])
-        column = jacobian[:, :, 2]
-        errors.append(np.abs(numeric - column).max(axis=1) / np.abs(column).max(axis=1))
-    coarse, fine = errors
+        numerics.append((_period_map(lanes, *ends[0]) - _period_map(lanes, *ends[1])) / (
+            2 * h[:, None]))
+    numerics.append((100.0 * numerics[1] - numerics[0]) / 99.0)  # Richardson: h^2 gone
+    coarse, fine, extrapolated = (np.abs(n - column).max(axis=1) / np.abs(column).max(axis=1)
+                                  for n in numerics)
+    errors = (coarse, fine, extrapolated)
+    assert (extrapolated[:2] < EXTRAPOLATED_ERROR[by_force]).all(), errors
     assert (fine[:2] < FINE_ERROR[by_force]).all(), errors
     assert (fine[:2] < 0.02 * coarse[:2]).all(), errors  # h^2, measured 0.0100
     assert fine[2] < 0.03, errors  # through loss of contact: the same column, to the corner
+
+
+@pytest.mark.parametrize("force_is_parameter", [False, True])
+def test_the_scaled_jacobian_of_r_is_the_limit_of_its_central_differences(force_is_parameter):
+    # R(z) and dR/dz as continuation's corrector takes them, scaled, the parameter's column
+    # by f through dt = 1 / (N f) (or by P_a): against central differences of R itself in
+    # each unknown, at an orbit start in contact (the map smooth there). Measured
+    # (2026-11-23): at h = 1e-4 in z the differences lie 7.2e-7 (f's column) and 3.2e-8
+    # (P_a's) off, relative, a hundredth of those at 1e-3. The compiled walk's period_map
+    # gives the same R and monodromy to the last bit and dR/dz to 1.3e-16.
+    model = ContactModel()
+    y0, q = eq26_numbers(model.parameters).y0_m, model.parameters.Q_n
+    if force_is_parameter:
+        shoot, z, bound = ForceMap(model, 1400.0, 512, 1), np.array([1.2, 0.0, 0.05]), 1e-7
+    else:
+        shoot = PeriodMap(model, 0.05 * q, 512, 1)
+        z, bound = shoot.scaled(1.2 * y0, 0.0, 900.0), 3e-6
+    r, jacobian, monodromy = shoot.residual(z)
+    errors = []
+    for h in (1e-3, 1e-4):
+        steps = h * np.eye(3)
+        numeric = np.stack([(shoot.residual(z + e)[0] - shoot.residual(z - e)[0]) / (2 * h)
+                            for e in steps], axis=1)
+        errors.append(np.abs(numeric - jacobian).max(axis=0) / np.abs(jacobian).max(axis=0))
+    assert (errors[1] < bound).all(), errors
+    assert (errors[1] < 0.02 * errors[0]).all(), errors  # h^2
+    jac, mono = np.empty((2, 3)), np.empty((2, 2))
+    compiled = shoot.walker.period_map(z, shoot.scale, shoot.steps, shoot.period, shoot.drive,
+                                       shoot.force_is_parameter, shoot.other,
+                                       np.zeros(shoot.walker._F_HI + 1), jac, mono)
+    assert np.array_equal(np.array(compiled), r) and np.array_equal(mono, monodromy)
+    assert np.abs(jac - jacobian).max() <= 1e-15 * np.abs(jacobian).max()

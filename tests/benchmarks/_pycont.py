@@ -10,11 +10,11 @@ v / (omega0 y0), f / f_n0), split as u = z[:2] and the parameter p = z[2].
   pseudo-arclength continuation: it is given G(u, p) alone and takes every derivative
   by finite differences (a Newton-Krylov corrector, an L-GMRES tangent). Its entry
   point has no argument for a Jacobian, so the monodromy matrix from the compiled
-  tangent kernel cannot be handed to it; each residual call still computes it (a
-  tangent lane, and two plain lanes for the difference in f), unused.
+  tangent kernel cannot be handed to it; each residual call still computes it (in
+  the same run of the tangent kernel as R), unused.
 - contique (PyPI ``contique``) continues by a control component (the unknown that
   moved most, switched as the branch turns) with a plain Newton, and takes the
-  Jacobian: here dR/du (the monodromy) and dR/dp (the central difference in f) from
+  Jacobian: here dR/du (the monodromy) and dR/dp (the exact derivative in f) from
   that same residual call, the Jacobian ``continue_orbits`` uses.
 
 The walks mirror ``continue_orbits``': from the stable orbit reached from rest at the

@@ -87,7 +87,7 @@ def one_lane_against_many(lanes: int = 64, steps: int = 1024) -> tuple[float, fl
     """ns per lane-step of ``shoot_periods`` (the state and monodromy, as a Newton step
     needs) on one lane and on ``lanes`` lanes (of the same orbit): one lane waits on its
     own chain of stages (latency), many lanes fill the core (throughput). Continuation
-    walks one orbit at a time, so it runs at the first figure."""
+    walks one orbit at a time: one lane."""
     model = ContactModel()
     kernels, drive = compiled_kernels(model), drive_table(steps)
     y0, q = eq26_numbers(model.parameters).y0_m, model.parameters.Q_n

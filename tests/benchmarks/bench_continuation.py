@@ -49,6 +49,9 @@ def main() -> None:
         higher_is_better=False)
     row("continue_orbits [s] vs the goal of 0.5 s", continued, 0.5, "s",
         higher_is_better=False)
+    every = interleaved_medians(_continue, _continue_locating_every_fold, repeats=5)
+    row("continue_orbits [s] vs locating every fold met (as before 2026-11-23) [s]", *every,
+        "s", higher_is_better=False)
     steps = run.settings["steps_per_period"]
     row("N steps per period the branch took ('auto')", steps)
     compiled, python = interleaved_medians(
@@ -69,6 +72,18 @@ def main() -> None:
         print(f"  {mark.kind} at {mark.frequency_hz:.4f} Hz, App {mark.app_m * 1e9:.2f} nm, "
               f"{mark.precision()}")
     _beside_packages(run)
+
+
+def _continue_locating_every_fold():
+    """``_continue`` with every fold the walk meets located by Brent's method, not only
+    those near a turn of f that is reported (``_continuation._NEAR_TURN``)."""
+    from numerics import _continuation
+
+    near, _continuation._NEAR_TURN = _continuation._NEAR_TURN, 10**9
+    try:
+        return _continue()
+    finally:
+        _continuation._NEAR_TURN = near
 
 
 def _evaluation_routes(steps: int) -> tuple[float, float]:

@@ -300,7 +300,8 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
                "f/f_n0)", "1", ""),
     "max_angle": ("largest angle between the tangents of consecutive continued points",
                   "rad", ""),
-    "max_points": ("most points a continued branch may take", "1", ""),
+    "max_points": ("most points a walk of a continued branch may take (the folds located "
+                   "once it has ended come on top)", "1", ""),
     "engine": ("how a walk ran: 'compiled' (whole in machine code) or 'python' (the "
                "reference, step by step); asked for as 'auto', 'compiled' or 'python'", "",
                ""),

@@ -17,7 +17,9 @@ of the simulator's RK4 map at N fixed steps per period (``_continuation_map``).
   doubling): no Neimark-Sacker point can arise in this model.
 - Bifurcations: a fold where the f-component of t changes sign, a period doubling
   where det(M + I) does; each is located by Brent's method on the arclength,
-  to ``LOCATE_TOL`` in z, and inserted in the branch. One that Brent's method cannot
+  to ``LOCATE_TOL`` in z, and inserted in the branch (a fold once the walk has ended,
+  and only one that is reported: near a turn of f, not a turn of a zigzag over the
+  map's corners). One that Brent's method cannot
   locate (Newton cannot correct between the two points) is marked at a point of the
   branch within one step, and says so (``Bifurcation.located``, with the step's reach
   in the parameter as its tolerance).
@@ -61,9 +63,9 @@ _DS_MIN = 1e-9  # below it the continuation gives up
 _GROW, _SHRINK = 1.5, 0.5
 #: A tangent that turns by more than max_angle over a step this short (in z) turns at a
 #: corner of the branch, not at a fold (the map is only piecewise smooth through loss
-#: of contact): the step is accepted. A fold within it is still seen (f turns) and
-#: located. At 0.15 Q, N = 1024, 1e-4 took 6528 points (3298 steps below 5e-3, in the
-#: bouncing fold's zigzag), 1e-3 takes 4896 (2026-11-23).
+#: of contact): the step is accepted. A fold within it is still seen (f turns). At
+#: 0.15 Q, N = 1024, 1e-4 took 6528 points (3298 steps below 5e-3, in the bouncing
+#: fold's zigzag), 1e-3 takes 4896 (2026-11-23, when every fold met was located and kept).
 _CORNER_DS = 1e-3
 _EASY_ITERATIONS = 3  # Newton converging within this many iterations grows the step
 #: Brent's method locates a bifurcation to this arclength in z: f to about 1e-5 Hz on
@@ -266,7 +268,8 @@ def continue_orbits(
     max_angle : float
         Largest angle [rad] between the tangents of consecutive points.
     max_points : int
-        The branch gives up after this many points.
+        A walk gives up after this many points; the folds located once it has ended
+        are added to them (one per fold reported).
     quiet : bool
         No progress bar on stderr.
     engine : {"auto", "compiled", "python"}
@@ -629,8 +632,7 @@ class _Walk:
         ``point``, not lost. With ``defer_folds`` a fold alone in its step is left for
         ``_locate_folds``, once the walk knows which turns of f are folds."""
         base, t_base = self.points[-1], self.tangents[-1]
-        tests = {"fold": lambda p, tp: tp[2],
-                 "period-doubling": lambda p, tp: p.period_doubling_test}
+        tests = {"fold": _fold_test, "period-doubling": lambda p, tp: p.period_doubling_test}
         found, unlocated = [], []
         # A fold passes a real multiplier through +1: where t_f turns with no change in
         # the count of multipliers outside the unit circle, it turned at a corner of the
@@ -667,14 +669,16 @@ class _Walk:
         if not self.pending_folds:
             return
         f = np.array([p.z[2] for p in self.points])
-        turns = np.concatenate([find_peaks(sign * f, prominence=_FOLD_PROMINENCE)[0]
-                                for sign in (1.0, -1.0)])
-        fold = lambda p, tp: tp[2]  # noqa: E731 (the test of _bifurcations)
+        turns = _turns(f)
+        if self.status != Status.SUCCESS:
+            # Ended inside the band: joined to a walk from the other end, its last points
+            # may turn significantly; the folds there are located too.
+            turns = np.append(turns, _tail(f))
         # From the last: a point kept at one index leaves the indices below it as they are.
         for first, orientation in sorted(self.pending_folds, reverse=True):
             base, end = self.points[first], self.points[first + 1]
             near = turns.size and np.abs(turns - (first + 1)).min() <= _NEAR_TURN
-            located = (self._locate(base, self.tangents[first], end, fold, orientation)
+            located = (self._locate(base, self.tangents[first], end, _fold_test, orientation)
                        if near else None)
             if located is None:
                 self.marks.append(_Mark(first + 1, "fold", False, _reach(base, end)))
@@ -686,6 +690,7 @@ class _Walk:
             self.points.insert(first + 1, point)
             self.tangents.insert(first + 1, t)
         self.pending_folds = []
+        self.marks.sort()  # in the walk's order, as _significant_folds breaks its ties
 
     def _locate(self, base: Point, t_base, end: Point, test, orientation: float):
         """Brent's method on the arclength s from ``base`` towards ``end``: the s where
@@ -824,13 +829,30 @@ _FOLD_PROMINENCE = 1e-4
 _NEAR_TURN = 3
 
 
+def _fold_test(point: Point, t: np.ndarray) -> float:
+    """The test function of a fold: the parameter's component of the tangent."""
+    return t[2]
+
+
+def _turns(f: np.ndarray) -> np.ndarray:
+    """The indices where f turns and then follows the turn by ``_FOLD_PROMINENCE``."""
+    return np.concatenate([find_peaks(sign * f, prominence=_FOLD_PROMINENCE)[0]
+                           for sign in (1.0, -1.0)])
+
+
+def _tail(f: np.ndarray) -> np.ndarray:
+    """The indices of the last run of points whose f stays within ``_FOLD_PROMINENCE`` of
+    the last point's."""
+    far = np.flatnonzero(np.abs(f - f[-1]) > _FOLD_PROMINENCE)
+    return np.arange(far.max(initial=-1) + 1, f.size)
+
+
 def _significant_folds(points: list[Point], marks: list[_Mark]) -> list[_Mark]:
     """``marks`` with the folds that are significant turns of f (``_FOLD_PROMINENCE``):
     per turn, the fold marked nearest to it, or the turning point itself (not located:
     within a step either side)."""
     f = np.array([p.z[2] for p in points])
-    turns = np.concatenate([find_peaks(sign * f, prominence=_FOLD_PROMINENCE)[0]
-                            for sign in (1.0, -1.0)])
+    turns = _turns(f)
     folds = [m for m in marks if m.kind == "fold"]
     at = np.array([m.index for m in folds], dtype=int)
     chosen = [folds[np.argmin(np.abs(at - k))] if at.size and np.abs(at - k).min() <= 2

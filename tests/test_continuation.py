@@ -654,9 +654,10 @@ def test_continued_in_force_the_period_doubling_is_where_continuation_in_f_has_i
 def test_folds_are_located_once_the_walk_knows_which_turns_are_folds():
     # _locate_folds locates only the folds near a turn of f that _significant_folds keeps
     # (at 0.15 Q, N = 1024, 3 of the 70 met: the rest are turns of the zigzag about the
-    # bouncing fold). Route 2, every fold met located (as the walk did as it went): the
-    # same bifurcations to the last bit, and the same points but the 65 (measured) that
-    # those extra locations kept.
+    # bouncing fold). Route 2, every fold met located (the route before): the same
+    # bifurcations to the last bit, and the same points in the same order but the 65
+    # (measured) that those extra locations kept. Each fold located is where f turns:
+    # a point inserted one place off would not be an extreme of f.
     from numerics import _continuation
 
     run = continue_orbits(0.15, 250.0, 1800.0)
@@ -665,6 +666,11 @@ def test_folds_are_located_once_the_walk_knows_which_turns_are_folds():
         every = continue_orbits(0.15, 250.0, 1800.0)
     assert [b.as_dict() for b in run.bifurcations] == [b.as_dict() for b in every.bifurcations]
     ours, theirs = run.branches[0], every.branches[0]
-    kept = set(zip(theirs.frequency_hz.tolist(), theirs.app_m.tolist()))
-    assert set(zip(ours.frequency_hz.tolist(), ours.app_m.tolist())) <= kept
-    assert theirs.frequency_hz.size - ours.frequency_hz.size > 50  # measured 65
+    kept = np.isin(theirs.frequency_hz, ours.frequency_hz)
+    assert np.array_equal(theirs.frequency_hz[kept], ours.frequency_hz)
+    assert np.array_equal(theirs.app_m[kept], ours.app_m)
+    assert (~kept).sum() == 65
+    f = ours.frequency_hz
+    for fold in run.folds():
+        (i,) = np.flatnonzero(f == fold.frequency_hz)
+        assert (f[i] - f[i - 1]) * (f[i] - f[i + 1]) > 0, fold  # a strict extreme of f

@@ -50,7 +50,7 @@ def main() -> None:
     row("continue_orbits [s] vs the goal of 0.5 s", continued, 0.5, "s",
         higher_is_better=False)
     every = interleaved_medians(_continue, _continue_locating_every_fold, repeats=5)
-    row("continue_orbits [s] vs locating every fold met (as before 2026-11-23) [s]", *every,
+    row("continue_orbits [s] vs locating every fold met (the route before, emulated) [s]", *every,
         "s", higher_is_better=False)
     steps = run.settings["steps_per_period"]
     row("N steps per period the branch took ('auto')", steps)

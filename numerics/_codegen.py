@@ -25,6 +25,7 @@ from perturb._cache import (
     cache_key,
     intact,
     load_generated,
+    machine_code_index,
     usable_cache_dir,
 )
 
@@ -149,7 +150,7 @@ def sweep_driver_built(model: ContactModel) -> bool:
         return True
     _DRIVERS_BUILT.pop(memo, None)
     path = usable_cache_dir() / f"kernel_{_cache_key(model)}.py"
-    index = next(path.parent.glob(f"__pycache__/{path.stem}.sweep_lanes-*.nbi"), None)
+    index = machine_code_index(path, "sweep_lanes")
     if index is None or not intact(path):
         return False
     _DRIVERS_BUILT[memo] = index
@@ -177,15 +178,13 @@ def kernels_built(model: ContactModel) -> bool:
     """Whether ``model``'s kernel module is in the cache, whole, with numba's machine code
     of every kernel of ``EAGER_KERNELS`` (loading it then compiles nothing)."""
     path = usable_cache_dir() / f"kernel_{_cache_key(model)}.py"
-    return intact(path) and all(
-        next(path.parent.glob(f"__pycache__/{path.stem}.{name}-*.nbi"), None) is not None
-        for name in EAGER_KERNELS)
+    return intact(path) and all(machine_code_index(path, name) is not None
+                                for name in EAGER_KERNELS)
 
 
 def _compiled_before(module: ModuleType, name: str) -> bool:
     """Whether numba's cache holds machine code of the kernel ``name`` of ``module``."""
-    path = Path(module.__file__)
-    return next(path.parent.glob(f"__pycache__/{path.stem}.{name}-*.nbi"), None) is not None
+    return machine_code_index(Path(module.__file__), name) is not None
 
 
 def _smoke(module: ModuleType) -> None:

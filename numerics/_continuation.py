@@ -840,11 +840,17 @@ def _turns(f: np.ndarray) -> np.ndarray:
                            for sign in (1.0, -1.0)])
 
 
+def _near(f: np.ndarray, index: int) -> slice:
+    """The run of points about ``index`` whose f stays within ``_FOLD_PROMINENCE`` of f
+    there: where turns of f are not told apart from a turn at ``index``."""
+    far = np.flatnonzero(np.abs(f - f[index]) > _FOLD_PROMINENCE)
+    return slice(far[far < index].max(initial=-1) + 1, far[far > index].min(initial=f.size))
+
+
 def _tail(f: np.ndarray) -> np.ndarray:
     """The indices of the last run of points whose f stays within ``_FOLD_PROMINENCE`` of
     the last point's."""
-    far = np.flatnonzero(np.abs(f - f[-1]) > _FOLD_PROMINENCE)
-    return np.arange(far.max(initial=-1) + 1, f.size)
+    return np.arange(f.size)[_near(f, f.size - 1)]
 
 
 def _significant_folds(points: list[Point], marks: list[_Mark]) -> list[_Mark]:
@@ -874,10 +880,7 @@ def _zigzags(f: np.ndarray, turn: int) -> bool:
     ``_FOLD_PROMINENCE`` are not told apart as folds, and which of them a walk locates
     depends on its steps: such a fold is known to that resolution, not to Brent's.
     """
-    far = np.flatnonzero(np.abs(f - f[turn]) > _FOLD_PROMINENCE)
-    first = far[far < turn].max(initial=-1) + 1
-    last = far[far > turn].min(initial=f.size)
-    moves = np.diff(f[first:last])
+    moves = np.diff(f[_near(f, turn)])
     moves = moves[moves != 0.0]  # a point repeated (a located fold beside its step)
     return bool((np.sign(moves[1:]) != np.sign(moves[:-1])).sum() > 1)
 

@@ -31,8 +31,7 @@ WALK_FAILED, WALK_PENDING, WALK_FULL = 0, 1, 2
 
 
 @numba.njit(cache=True, error_model="numpy")
-def period_map(z, scale, steps, period, drive, force_is_parameter, other, settings, jac,
-               mono):
+def period_map(z, scale, steps, period, drive, force_is_parameter, other, jac, mono):
     """``PeriodMap.residual`` (or ``ForceMap``'s): R at z, returned, with dR/dz into
     ``jac`` (2 x 3) and the monodromy matrix into ``mono`` (2 x 2)."""
     y, v, value = z[0] * scale[0], z[1] * scale[1], z[2] * scale[2]
@@ -102,7 +101,7 @@ def correct(z0, row, target, scale, steps, period, drive, force_is_parameter, ot
     bordered = np.empty((3, 3))
     bordered[2] = row
     full[0], full[1] = period_map(z, scale, steps, period, drive, force_is_parameter, other,
-                                  settings, jac, mono)
+                                  jac, mono)
     full[2] = row @ z - target
     for iteration in range(1, int(settings[_ITERATIONS]) + 1):
         if not (np.isfinite(full).all() and np.isfinite(jac).all()):
@@ -123,8 +122,7 @@ def correct(z0, row, target, scale, steps, period, drive, force_is_parameter, ot
         for _ in range(int(settings[_BACKTRACKS])):
             trial[:] = z + step
             f_trial[0], f_trial[1] = period_map(trial, scale, steps, period, drive,
-                                                force_is_parameter, other, settings, j_trial,
-                                                m_trial)
+                                                force_is_parameter, other, j_trial, m_trial)
             f_trial[2] = row @ trial - target
             if math.sqrt(f_trial @ f_trial) < norm:
                 reduced = True

@@ -41,7 +41,7 @@ from types import ModuleType
 
 __all__ = ["CacheWarning", "cache_dir", "usable_cache_dir", "cache_key", "write_atomically",
            "MODEL_SOURCES", "SERIES_SOURCES", "load_generated", "write_generated", "intact",
-           "remove_generated"]
+           "remove_generated", "machine_code_index"]
 
 #: The files of ``perturb`` that shape everything derived from the model.
 MODEL_SOURCES = tuple(Path(__file__).with_name(name) for name in
@@ -168,6 +168,13 @@ def intact(path: Path) -> bool:
     except (OSError, UnicodeDecodeError):
         return False
     return head == _checksum(body)
+
+
+def machine_code_index(path: Path, function: str = "*") -> Path | None:
+    """numba's index file of the machine code it cached for ``function`` (any, by
+    default) of the generated module at ``path`` (``__pycache__/STEM.FUNCTION-*.nbi``
+    beside it), or None: whether that function is compiled on disk."""
+    return next(path.parent.glob(f"__pycache__/{path.stem}.{function}-*.nbi"), None)
 
 
 def remove_generated(path: Path) -> None:

@@ -35,7 +35,14 @@ import threading
 from pathlib import Path
 from types import ModuleType
 
-from ._cache import SERIES_SOURCES, cache_key, intact, load_generated, usable_cache_dir
+from ._cache import (
+    SERIES_SOURCES,
+    cache_key,
+    intact,
+    load_generated,
+    machine_code_index,
+    usable_cache_dir,
+)
 
 __all__ = ["series_kernels", "series_kernels_built", "series_source"]
 
@@ -331,7 +338,7 @@ def series_kernels_built(order: int) -> bool:
     if order in _LOADED:
         return True
     path = _path(order)
-    return intact(path) and any(path.parent.glob(f"__pycache__/{path.stem}.*.nbi"))
+    return intact(path) and machine_code_index(path) is not None
 
 
 def _path(order: int) -> Path:

@@ -107,7 +107,6 @@ def test_the_scaled_jacobian_of_r_is_the_limit_of_its_central_differences(force_
     assert (errors[1] < 0.02 * errors[0]).all(), errors  # h^2
     jac, mono = np.empty((2, 3)), np.empty((2, 2))
     compiled = shoot.walker.period_map(z, shoot.scale, shoot.steps, shoot.period, shoot.drive,
-                                       shoot.force_is_parameter, shoot.other,
-                                       np.zeros(shoot.walker._F_HI + 1), jac, mono)
+                                       shoot.force_is_parameter, shoot.other, jac, mono)
     assert np.array_equal(np.array(compiled), r) and np.array_equal(mono, monodromy)
     assert np.abs(jac - jacobian).max() <= 1e-15 * np.abs(jacobian).max()

@@ -10,9 +10,9 @@ of P_a), each task one batch of ``censuses``, so that the compiled kernel advanc
 few thousand lanes per call, and the tasks go to a ``concurrent.futures.Executor``:
 a local process pool by default, or any other (``Client.get_executor()`` of
 dask.distributed spreads them over a cluster). How the cells are cut depends on the
-input alone, never on the executor or its workers: a lane's result depends, at
-round-off, on the batch it runs in (Newton stops when all lanes of a batch have
-converged), so that fixed cut makes the atlas bit-identical however it is run.
+input alone, never on the executor or its workers. A lane's result does not depend on
+the batch it runs in (each lane iterates Newton until it converges itself), so the
+atlas is bit-identical however it is run, and would stay so if that changed.
 
 A task that raises is reported, with its message, as failed cells; the others
 complete.

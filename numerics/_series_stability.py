@@ -238,7 +238,7 @@ def _shoot(model, lanes: _Roots, p_a: float, steps: int) -> _Found:
                       np.empty(0, dtype=bool))
     batch = _Batch(model, lanes.f, np.full(n, p_a), steps, _NEWTON_BATCH_TOL)
     index = np.arange(n)
-    _, y, v, _ = batch.newton(index, lanes.y, lanes.v, 1, lanes.app, np.inf)
+    _, y, v, _, _ = batch.newton(index, lanes.y, lanes.v, 1, lanes.app, np.inf)
     with np.errstate(all="ignore"):
         yp, vp, monodromy = y.copy(), v.copy(), np.empty((n, 2, 2))
         batch.kernels.shoot_periods(yp, vp, batch.dt, batch.p_a, batch.drive, 1, monodromy)

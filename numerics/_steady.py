@@ -171,13 +171,15 @@ class _Batch(Lanes):
         return np.abs(dy) / scale + np.abs(dv) / (self.omega[lanes] * scale)
 
     def newton(self, lanes, y, v, p, span, reach, monodromy=None):
-        """Newton on Phi_p(x) = x from (y, v); returns converged, y, v, multipliers.
+        """Newton on Phi_p(x) = x from (y, v); returns converged, y, v, multipliers and the
+        first shot Phi_p(y, v) (the approach check marches on from it).
 
         A result is kept only if it lies within ``reach`` of the start, relative
         to ``span`` (the size of the orbit the start lies on): Newton must follow
-        the orbit it was started on, not jump to another one. ``monodromy``, an
-        array (lanes, 2, 2) if given, receives the last monodromy matrix, d Phi_p / dx
-        (rows and columns y, v) at the iterate before the last.
+        the orbit it was started on, not jump to another one. A lane stops iterating
+        once its step is below tol / 1000, or not finite. ``monodromy``, an
+        array (lanes, 2, 2) if given, receives each lane's last monodromy matrix,
+        d Phi_p / dx (rows and columns y, v) at its iterate before the last.
         """
         k, lanes = self.kernels, np.asarray(lanes)
         y_start, v_start = y, v
@@ -186,24 +188,30 @@ class _Batch(Lanes):
         if monodromy is None:
             monodromy = np.empty((lanes.shape[0], 2, 2))
         scale = self.length
+        active = np.arange(lanes.shape[0])
         with np.errstate(all="ignore"):  # a lane may diverge: its values are inf or NaN
-            for _ in range(_NEWTON_ITERATIONS):
-                yp, vp = y.copy(), v.copy()
-                k.shoot_periods(yp, vp, self.dt[lanes], self.p_a[lanes], self.drive, p, monodromy)
-                self.periods_run[lanes] += p
+            for iteration in range(_NEWTON_ITERATIONS):
+                idx = lanes[active]
+                yp, vp, m = y[active], v[active], np.empty((active.size, 2, 2))
+                k.shoot_periods(yp, vp, self.dt[idx], self.p_a[idx], self.drive, p, m)
+                self.periods_run[idx] += p
+                if not iteration:
+                    shot = yp, vp
+                monodromy[active] = m
                 # (M - I) dx = -(Phi(x) - x), a 2x2 solve per lane.
-                step_y, step_v = _solve_2x2(monodromy - np.eye(2), y - yp, v - vp)
-                y, v = y + step_y, v + step_v
-                size = self.distance(lanes, step_y, step_v, scale)
-                converged = np.isfinite(size) & (size < self.tol * 1e-3)
-                if converged.all() or not np.isfinite(size).any():
+                step_y, step_v = _solve_2x2(m - np.eye(2), y[active] - yp, v[active] - vp)
+                y[active], v[active] = y[active] + step_y, v[active] + step_v
+                size = self.distance(idx, step_y, step_v, scale)
+                converged[active] = np.isfinite(size) & (size < self.tol * 1e-3)
+                active = active[np.isfinite(size) & ~converged[active]]
+                if not active.size:
                     break
             multipliers = _eigenvalues(monodromy)
             moved = self.distance(lanes, y - y_start, v - v_start, self.scale(span))
             near = np.isfinite(moved) & (moved < reach)
-        return converged & near & _stable(multipliers), y, v, multipliers
+        return converged & near & _stable(multipliers), y, v, multipliers, shot
 
-    def follows(self, lanes, y, v, y_orbit, v_orbit, p, span, monodromy):
+    def follows(self, lanes, y, v, y_orbit, v_orbit, p, span, monodromy, shot):
         """Whether time marching from (y, v) approaches the orbit through (y_orbit, v_orbit).
 
         Newton can continue a stable orbit whose basin no longer holds the
@@ -213,6 +221,8 @@ class _Batch(Lanes):
         whose first _VERIFY_FIRST periods follow the orbit's linearisation
         (``monodromy``, Newton's, of p periods) are decided then, by its prediction
         of the distance at _VERIFY_PERIODS (the reasoning is beside the constants).
+        The march's first p periods are ``shot``, Newton's first Phi_p(y, v): the same
+        RK4 steps, not run twice.
         """
         lanes = np.asarray(lanes)
         full = _VERIFY_PERIODS - _VERIFY_PERIODS % p
@@ -220,10 +230,12 @@ class _Batch(Lanes):
         scale = self.scale(span)
         dy, dv = y - y_orbit, v - v_orbit
         before = self.distance(lanes, dy, dv, scale)
-        ym, vm = y.copy(), v.copy()
+        ym, vm = shot[0].copy(), shot[1].copy()
+        marched = p
         early = np.zeros(lanes.size, dtype=bool)
         if first < full:
-            self._march_verify(lanes, ym, vm, first)
+            self._march_verify(lanes, ym, vm, first - marched)
+            marched = first
             with np.errstate(all="ignore"):  # a diverged lane's state is inf or NaN
                 ey, ev = ym - y_orbit, vm - v_orbit
                 ly, lv = _propagate(monodromy, dy, dv, first // p)
@@ -233,7 +245,7 @@ class _Batch(Lanes):
             early = linear & (predicted < _VERIFY_EARLY_SHRINK * before)
         rest = np.flatnonzero(~early)
         ym_rest, vm_rest = ym[rest], vm[rest]
-        self._march_verify(lanes[rest], ym_rest, vm_rest, full - (first if first < full else 0))
+        self._march_verify(lanes[rest], ym_rest, vm_rest, full - marched)
         ym[rest], vm[rest] = ym_rest, vm_rest
         after = self.distance(lanes, ym - y_orbit, vm - v_orbit, scale)
         return early | (after < _VERIFY_SHRINK * before) | (after < self.tol)
@@ -244,9 +256,10 @@ class _Batch(Lanes):
         self.advance(y, v, periods, np.full(lanes.size, -1, dtype=np.int64), lanes=lanes)
         self.periods_run[lanes] += periods
 
-    def march(self, lanes, y, v, cap, failed_period):
+    def march(self, lanes, y, v, cap, failed_period, done: int = 0):
         """Time-march lanes until their stroboscopic state repeats; lanes stop when settled
-        or at their ``cap`` of periods (one per lane).
+        or at their ``cap`` of periods (one per lane), counted from ``done`` periods
+        marched before (so that a march resumed goes on as one that was not stopped).
 
         Returns the period found (0: not settled), the states, and the last span."""
         k = self.kernels
@@ -258,7 +271,6 @@ class _Batch(Lanes):
         tail_y = np.full((lanes.shape[0], 0), np.nan)
         tail_v = tail_y.copy()
         active = np.arange(lanes.shape[0])
-        done = 0
         while True:
             within = done < cap[active]
             active, tail_y, tail_v = active[within], tail_y[within], tail_v[within]
@@ -560,34 +572,67 @@ def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, c
         # Continuation: follow the orbit the initial states lie on.
         for p in np.unique(guess):
             group = np.flatnonzero(guess == p)
-            monodromy = np.empty((group.size, 2, 2))
-            ok, yn, vn, mult = batch.newton(group, y[group], v[group], int(p), span[group],
-                                            _REACH_POLISH if polish_only else _REACH_CONTINUATION,
-                                            monodromy)
-            if not polish_only:
-                ok[ok] = batch.follows(group[ok], y[group][ok], v[group][ok], yn[ok], vn[ok],
-                                       int(p), span[group][ok], monodromy[ok])
-            _accept(state, group[ok], yn[ok], vn[ok], int(p), mult[ok], "newton")
+            _newton_from(batch, state, group, y[group], v[group], int(p), span[group],
+                         _REACH_POLISH if polish_only else _REACH_CONTINUATION, "newton",
+                         check=not polish_only)
     rest = np.flatnonzero(~state.settled)
     if rest.size and not polish_only:
-        period, ym, vm, span_m = batch.march(rest, y[rest], v[rest], cap[rest], failed_period)
-        state.y_start_m[rest], state.v_start_m_s[rest] = ym, vm
-        for p in np.unique(period[period > 0]):
-            chosen = period == p
-            group, marched_y, marched_v = rest[chosen], ym[chosen], vm[chosen]
-            if method == "newton":
-                # Polish: the marched state is within about tol of the orbit.
-                ok, yn, vn, mult = batch.newton(group, marched_y, marched_v, int(p),
-                                                span_m[chosen], _REACH_POLISH)
-                _accept(state, group[ok], yn[ok], vn[ok], int(p), mult[ok], "march+newton")
-                group, marched_y, marched_v = group[~ok], marched_y[~ok], marched_v[~ok]
-            _accept(state, group, marched_y, marched_v, int(p), None, "march")
+        _march(batch, state, rest, y[rest], v[rest], guess[rest], cap[rest], failed_period,
+               method)
     _record_orbits(batch, state, keep_orbits)
     if app_rtol is not None:
         _estimate_step_error(batch, state)
     state.periods_run += batch.periods_run
     _fate(state, batch, failed_period, cap, app_rtol)
     return state
+
+
+def _newton_from(batch: _Batch, state: Orbits, group, y, v, p: int, span, reach, method: str,
+                 check: bool) -> None:
+    """Newton from (y, v) on the lanes ``group``: an orbit that converges within ``reach``,
+    stable and (``check``) approached by a march from (y, v) is accepted."""
+    monodromy = np.empty((group.size, 2, 2))
+    ok, yn, vn, mult, shot = batch.newton(group, y, v, p, span, reach, monodromy)
+    if check:
+        ok[ok] = batch.follows(group[ok], y[ok], v[ok], yn[ok], vn[ok], p, span[ok],
+                               monodromy[ok], (shot[0][ok], shot[1][ok]))
+    _accept(state, group[ok], yn[ok], vn[ok], p, mult[ok], method)
+
+
+def _march(batch: _Batch, state: Orbits, rest, y, v, guess, cap, failed_period,
+           method: str) -> None:
+    """Time-march the lanes ``rest`` from (y, v) until they settle or reach their cap.
+
+    With Newton, a lane still moving after the first _CHUNK periods tries Newton from
+    there, for the period it was guessed to have, and the approach check (a transient
+    that decays by |mu| per period takes some 100 periods to come within tol: this one
+    takes Newton's few and the check's 4 to 16); the others march on as if not stopped,
+    and are polished by Newton when they repeat."""
+    newton = method == "newton"
+    period, ym, vm, span = batch.march(rest, y, v, np.minimum(cap, _CHUNK) if newton else cap,
+                                       failed_period)
+    if newton:
+        moving = np.flatnonzero((period == 0) & (failed_period[rest] < 0) & (cap > _CHUNK))
+        for p in np.unique(guess[moving]):
+            chosen = moving[guess[moving] == p]
+            _newton_from(batch, state, rest[chosen], ym[chosen], vm[chosen], int(p),
+                         span[chosen], _REACH_CONTINUATION, "march+newton", check=True)
+        on = moving[~state.settled[rest[moving]]]
+        period[on], ym[on], vm[on], span[on] = batch.march(rest[on], ym[on], vm[on], cap[on],
+                                                           failed_period, done=_CHUNK)
+    open_lanes = ~state.settled[rest]
+    state.y_start_m[rest[open_lanes]] = ym[open_lanes]
+    state.v_start_m_s[rest[open_lanes]] = vm[open_lanes]
+    for p in np.unique(period[open_lanes & (period > 0)]):
+        chosen = open_lanes & (period == p)
+        group, marched_y, marched_v = rest[chosen], ym[chosen], vm[chosen]
+        if newton:
+            # Polish: the marched state is within about tol of the orbit.
+            ok, yn, vn, mult, _ = batch.newton(group, marched_y, marched_v, int(p),
+                                               span[chosen], _REACH_POLISH)
+            _accept(state, group[ok], yn[ok], vn[ok], int(p), mult[ok], "march+newton")
+            group, marched_y, marched_v = group[~ok], marched_y[~ok], marched_v[~ok]
+        _accept(state, group, marched_y, marched_v, int(p), None, "march")
 
 
 def _accept(state: Orbits, lanes, y, v, p, multipliers, method) -> None:

@@ -146,32 +146,39 @@ def _largest_modulus(mu0, mu1):
 @_jit
 def _newton(idx, y_start, v_start, p, span, reach, dt, p_a, omega, drive, tol, length,
             periods_run):
-    """_Batch.newton on the lanes ``idx`` (one batch: they iterate together); also
-    returns the last monodromy matrices, which _follows takes."""
+    """_Batch.newton on the lanes ``idx`` (one batch: the lanes still iterating iterate
+    together); also returns the last monodromy matrices, which _follows takes, and the
+    first shot Phi_p(y_start, v_start)."""
     n = idx.shape[0]
     y, v = y_start.copy(), v_start.copy()
-    dt_g, p_a_g = dt[idx], p_a[idx]
     monodromy = np.empty((n, 2, 2))
     converged = np.zeros(n, dtype=np.bool_)
-    for _ in range(_NEWTON_ITERATIONS):
-        yp, vp = y.copy(), v.copy()
-        shoot_periods(yp, vp, dt_g, p_a_g, drive, p, monodromy)  # noqa: F821
-        every, some_finite = True, False
-        for i in range(n):
+    shot_y, shot_v = np.empty(n), np.empty(n)
+    active = np.arange(n)
+    for iteration in range(_NEWTON_ITERATIONS):
+        lanes = idx[active]
+        yp, vp, m = y[active], v[active], np.empty((active.shape[0], 2, 2))
+        shoot_periods(yp, vp, dt[lanes], p_a[lanes], drive, p, m)  # noqa: F821
+        iterating = np.zeros(active.shape[0], dtype=np.bool_)
+        for j in range(active.shape[0]):
+            i = active[j]
             periods_run[idx[i]] += p
+            if not iteration:
+                shot_y[i], shot_v[i] = yp[j], vp[j]
+            monodromy[i] = m[j]
             # (M - I) dx = -(Phi(x) - x), by Cramer's rule (_steady._solve_2x2).
-            a00, a01 = monodromy[i, 0, 0] - 1.0, monodromy[i, 0, 1]
-            a10, a11 = monodromy[i, 1, 0], monodromy[i, 1, 1] - 1.0
-            b0, b1 = y[i] - yp[i], v[i] - vp[i]
+            a00, a01 = m[j, 0, 0] - 1.0, m[j, 0, 1]
+            a10, a11 = m[j, 1, 0], m[j, 1, 1] - 1.0
+            b0, b1 = y[i] - yp[j], v[i] - vp[j]
             det = a00 * a11 - a01 * a10
             step_y = (b0 * a11 - a01 * b1) / det
             step_v = (a00 * b1 - a10 * b0) / det
             y[i], v[i] = y[i] + step_y, v[i] + step_v
             size = _distance(step_y, step_v, omega[idx[i]], length)
             converged[i] = math.isfinite(size) and size < tol * 1e-3
-            every = every and converged[i]
-            some_finite = some_finite or math.isfinite(size)
-        if every or not some_finite:
+            iterating[j] = math.isfinite(size) and not converged[i]
+        active = active[iterating]
+        if not active.size:
             break
     ok = np.zeros(n, dtype=np.bool_)
     mult = np.empty((n, 2), dtype=np.complex128)
@@ -185,7 +192,7 @@ def _newton(idx, y_start, v_start, p, span, reach, dt, p_a, omega, drive, tol, l
         largest = _largest_modulus(mu0, mu1)
         stable = (largest if largest == largest else np.inf) < 1.0
         ok[i] = converged[i] and near and stable
-    return ok, y, v, mult, monodromy
+    return ok, y, v, mult, monodromy, shot_y, shot_v
 
 
 @_inline
@@ -197,21 +204,24 @@ def _propagate(m, dy, dv, times):
 
 
 @_jit
-def _follows(idx, y, v, y_orbit, v_orbit, p, span, monodromy, dt, p_a, omega, limit, drive, tol,
-             length, periods_run):
+def _follows(idx, y, v, y_orbit, v_orbit, p, span, monodromy, shot_y, shot_v, dt, p_a, omega,
+             limit, drive, tol, length, periods_run):
     """_Batch.follows: whether a short march from (y, v) approaches the orbit, decided
-    after _VERIFY_FIRST periods where the march follows the orbit's linearisation."""
+    after _VERIFY_FIRST periods where the march follows the orbit's linearisation; its
+    first p periods are Newton's first shot (shot_y, shot_v)."""
     n = idx.shape[0]
     full = _VERIFY_PERIODS - _VERIFY_PERIODS % p
     first = max(_VERIFY_FIRST - _VERIFY_FIRST % p, p)
-    ym, vm = y.copy(), v.copy()
+    ym, vm = shot_y.copy(), shot_v.copy()
+    marched = p
     before, scale = np.empty(n), np.empty(n)
     for i in range(n):
         scale[i] = _scale(span[i], length)
         before[i] = _distance(y[i] - y_orbit[i], v[i] - v_orbit[i], omega[idx[i]], scale[i])
     early = np.zeros(n, dtype=np.bool_)
     if first < full:
-        _advance_verify(idx, ym, vm, first, dt, p_a, limit, drive, periods_run)
+        _advance_verify(idx, ym, vm, first - marched, dt, p_a, limit, drive, periods_run)
+        marched = first
         for i in range(n):
             ey, ev = ym[i] - y_orbit[i], vm[i] - v_orbit[i]
             ly, lv = _propagate(monodromy[i], y[i] - y_orbit[i], v[i] - v_orbit[i], first // p)
@@ -222,14 +232,30 @@ def _follows(idx, y, v, y_orbit, v_orbit, p, span, monodromy, dt, p_a, omega, li
             early[i] = linear and predicted < _VERIFY_EARLY_SHRINK * before[i]
     rest = np.flatnonzero(~early)
     ym_rest, vm_rest = ym[rest], vm[rest]
-    _advance_verify(idx[rest], ym_rest, vm_rest, full - (first if first < full else 0), dt, p_a,
-                    limit, drive, periods_run)
+    _advance_verify(idx[rest], ym_rest, vm_rest, full - marched, dt, p_a, limit, drive,
+                    periods_run)
     ym[rest], vm[rest] = ym_rest, vm_rest
     out = np.zeros(n, dtype=np.bool_)
     for i in range(n):
         after = _distance(ym[i] - y_orbit[i], vm[i] - v_orbit[i], omega[idx[i]], scale[i])
         out[i] = early[i] or (after < _VERIFY_SHRINK * before[i]) or (after < tol)
     return out
+
+
+@_inline
+def _newton_from(group, y, v, p, span, reach, method, check, fl, it, mult, dt, p_a, omega,
+                 limit, drive, tol, length, periods_run):
+    """_steady._newton_from: Newton from (y, v) on the lanes ``group``, the approach
+    check if ``check``, and the accepted orbits written to their rows."""
+    ok, yn, vn, mu, monodromy, shot_y, shot_v = _newton(group, y, v, p, span, reach, dt, p_a,
+                                                        omega, drive, tol, length, periods_run)
+    if check:
+        chosen = np.flatnonzero(ok)
+        follows = _follows(group[chosen], y[chosen], v[chosen], yn[chosen], vn[chosen], p,
+                           span[chosen], monodromy[chosen], shot_y[chosen], shot_v[chosen], dt,
+                           p_a, omega, limit, drive, tol, length, periods_run)
+        ok[chosen[~follows]] = False
+    _accept(fl, it, mult, group[ok], yn[ok], vn[ok], p, mu[ok], method)
 
 
 @_inline
@@ -268,14 +294,15 @@ def _repeating_period(strobe_y, strobe_v, span, omega, tol, length):
 
 
 @_jit
-def _march(idx, y, v, cap, failed_at, dt, p_a, omega, limit, drive, tol, length, periods_run):
-    """_Batch.march: lanes march until their stroboscopic state repeats or their cap."""
+def _march(idx, y, v, cap, failed_at, done, dt, p_a, omega, limit, drive, tol, length,
+           periods_run):
+    """_Batch.march: lanes march until their stroboscopic state repeats or their cap,
+    counted from ``done`` periods marched before."""
     n = idx.shape[0]
     period = np.zeros(n, dtype=np.int64)
     last_span = np.zeros(n)
     y, v = y.copy(), v.copy()
     active = np.arange(n)
-    done = cap[0] - cap[0]  # 0, typed int64 (a literal 0 would compile the kernel once more)
     while True:
         active = active[done < cap[active]]
         if not active.size:
@@ -302,6 +329,47 @@ def _march(idx, y, v, cap, failed_at, dt, p_a, omega, limit, drive, tol, length,
         done += chunk
         active = active[moving]
     return period, y, v, last_span
+
+
+@_jit
+def _march_lanes(rest, y, v, guess, cap, failed_at, use_newton, fl, it, mult, dt, p_a, omega,
+                 limit, drive, tol, length, periods_run):
+    """_steady._march: the lanes ``rest`` march from (y, v); with Newton, those still moving
+    after _CHUNK periods try Newton and the approach check from there, the others march
+    on; lanes that repeat are polished."""
+    period, ym, vm, span = _march(rest, y, v, np.minimum(cap, _CHUNK) if use_newton else cap,
+                                  failed_at, np.int64(0), dt, p_a, omega, limit, drive, tol,
+                                  length, periods_run)
+    if use_newton:
+        moving = np.flatnonzero((period == 0) & (failed_at[rest] < 0) & (cap > _CHUNK))
+        for p in range(1, _LARGEST_PERIOD + 1):
+            chosen = moving[guess[moving] == p]
+            if chosen.size:
+                _newton_from(rest[chosen], ym[chosen], vm[chosen], p, span[chosen],
+                             _REACH_CONTINUATION, _M_MARCH_NEWTON, True, fl, it, mult, dt, p_a,
+                             omega, limit, drive, tol, length, periods_run)
+        on = moving[it[rest[moving], I_STATUS] != _SUCCESS]
+        period_on, ym_on, vm_on, span_on = _march(rest[on], ym[on], vm[on], cap[on], failed_at,
+                                                  np.int64(_CHUNK), dt, p_a, omega, limit,
+                                                  drive, tol, length, periods_run)
+        period[on], ym[on], vm[on], span[on] = period_on, ym_on, vm_on, span_on
+    still_open = it[rest, I_STATUS] != _SUCCESS
+    for i in range(rest.size):
+        if still_open[i]:
+            fl[rest[i], F_Y], fl[rest[i], F_V] = ym[i], vm[i]
+    no_multipliers = np.empty((0, 2), dtype=np.complex128)
+    for p in range(1, _LARGEST_PERIOD + 1):
+        chosen = still_open & (period == p)
+        group, marched_y, marched_v = rest[chosen], ym[chosen], vm[chosen]
+        if not group.size:
+            continue
+        if use_newton:  # polish: the marched state is within about tol of the orbit
+            ok, yn, vn, mu, _, _, _ = _newton(group, marched_y, marched_v, p, span[chosen],
+                                              _REACH_POLISH, dt, p_a, omega, drive, tol, length,
+                                              periods_run)
+            _accept(fl, it, mult, group[ok], yn[ok], vn[ok], p, mu[ok], _M_MARCH_NEWTON)
+            group, marched_y, marched_v = group[~ok], marched_y[~ok], marched_v[~ok]
+        _accept(fl, it, mult, group, marched_y, marched_v, p, no_multipliers, _M_MARCH)
 
 
 @_inline
@@ -452,39 +520,16 @@ def _solve(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, continuation, 
     if use_newton and continuation:
         for p in range(1, _LARGEST_PERIOD + 1):
             group = lanes[guess[lanes] == p]
-            if not group.size:
-                continue
-            reach = _REACH_POLISH if polish_only else _REACH_CONTINUATION
-            ok, yn, vn, mu, monodromy = _newton(group, y[group], v[group], p, span[group],
-                                                reach, dt, p_a, omega, drive, tol, length,
-                                                periods_run)
-            if not polish_only:
-                chosen = np.flatnonzero(ok)
-                lanes_ok = group[chosen]
-                follows = _follows(lanes_ok, y[lanes_ok], v[lanes_ok], yn[chosen],
-                                   vn[chosen], p, span[lanes_ok], monodromy[chosen], dt, p_a,
-                                   omega, limit, drive, tol, length, periods_run)
-                ok[chosen[~follows]] = False
-            _accept(fl, it, mult, group[ok], yn[ok], vn[ok], p, mu[ok], _M_NEWTON)
+            if group.size:
+                _newton_from(group, y[group], v[group], p, span[group],
+                             _REACH_POLISH if polish_only else _REACH_CONTINUATION, _M_NEWTON,
+                             not polish_only, fl, it, mult, dt, p_a, omega, limit, drive, tol,
+                             length, periods_run)
     rest = lanes[it[lanes, I_STATUS] != _SUCCESS]
     if rest.size and not polish_only:
-        period, ym, vm, span_m = _march(rest, y[rest], v[rest], it[rest, I_CAP], failed_at, dt,
-                                        p_a, omega, limit, drive, tol, length, periods_run)
-        for i in range(rest.size):
-            fl[rest[i], F_Y], fl[rest[i], F_V] = ym[i], vm[i]
-        no_multipliers = np.empty((0, 2), dtype=np.complex128)
-        for p in range(1, _LARGEST_PERIOD + 1):
-            chosen = period == p
-            group, marched_y, marched_v = rest[chosen], ym[chosen], vm[chosen]
-            if not group.size:
-                continue
-            if use_newton:  # polish: the marched state is within about tol of the orbit
-                ok, yn, vn, mu, _ = _newton(group, marched_y, marched_v, p, span_m[chosen],
-                                         _REACH_POLISH, dt, p_a, omega, drive, tol, length,
-                                         periods_run)
-                _accept(fl, it, mult, group[ok], yn[ok], vn[ok], p, mu[ok], _M_MARCH_NEWTON)
-                group, marched_y, marched_v = group[~ok], marched_y[~ok], marched_v[~ok]
-            _accept(fl, it, mult, group, marched_y, marched_v, p, no_multipliers, _M_MARCH)
+        _march_lanes(rest, y[rest], v[rest], guess[rest], it[rest, I_CAP], failed_at,
+                     use_newton, fl, it, mult, dt, p_a, omega, limit, drive, tol, length,
+                     periods_run)
     _record_orbits(lanes, steps, fl, it, mult, maxima, minima, dt, p_a, omega, limit, drive,
                    tol, length, periods_run)
     if app_rtol > 0:

@@ -61,8 +61,8 @@ def test_a_lane_that_approaches_then_departs_is_not_accepted_early():
     y, v = run.y_start_m[[seed]], run.v_start_m_s[[seed]]
     span = run.app_m[[seed]]
     monodromy = np.empty((1, 2, 2))
-    ok, y_orbit, v_orbit, _ = batch.newton([0], y, v, 1, span, _steady._REACH_CONTINUATION,
-                                           monodromy)
+    ok, y_orbit, v_orbit, _, shot = batch.newton([0], y, v, 1, span,
+                                                 _steady._REACH_CONTINUATION, monodromy)
     assert ok[0]  # Newton continued the big orbit, stable by its multipliers
     scale = batch.scale(span)
     before = batch.distance([0], y - y_orbit, v - v_orbit, scale)
@@ -75,7 +75,8 @@ def test_a_lane_that_approaches_then_departs_is_not_accepted_early():
     ly, lv = _steady._propagate(monodromy, y - y_orbit, v - v_orbit, _steady._VERIFY_FIRST)
     deviation = batch.distance([0], ym - y_orbit - ly, vm - v_orbit - lv, scale)
     assert deviation[0] > 10 * _steady._VERIFY_LINEAR * before[0]
-    assert not batch.follows(np.array([0]), y, v, y_orbit, v_orbit, 1, span, monodromy)[0]
+    assert not batch.follows(np.array([0]), y, v, y_orbit, v_orbit, 1, span, monodromy,
+                             shot)[0]
 
 
 def test_the_staged_check_gives_the_verdicts_of_one_stage(monkeypatch):

@@ -78,7 +78,9 @@ def test_small_job_matches_the_python_sweep():
 
 @pytest.mark.parametrize("settings, status", [
     ({"method": "march", "tol": 1e-8}, Status.SUCCESS),
-    ({"max_periods": 40, "steps_per_period": 64, "refinements": 1}, Status.NOT_SETTLED),
+    # At most _CHUNK periods: a lane still moving then is not settled (a longer cap lets
+    # it try Newton from there).
+    ({"max_periods": 16, "steps_per_period": 64, "refinements": 1}, Status.NOT_SETTLED),
     ({"app_rtol": 1e-7}, Status.UNDER_RESOLVED),
     ({"app_rtol": None}, Status.SUCCESS),
 ])

@@ -418,7 +418,9 @@ def steady_states(
         Cap of time marching per lane, in periods. None (the default): a time, 30
         decay times 1/c of the linearised contact (a transient lasts many periods at
         a high f_e), but at least 1,200 and at most 120,000 periods. Lanes still
-        moving at the cap are not settled.
+        moving at the cap are not settled. With Newton, a lane still moving after 16
+        periods (a cap above that) tries Newton from there, kept where the march
+        approaches the orbit found (``method`` "march+newton").
     method : {"newton", "march"}
         Newton shooting with time marching as the fallback, or time marching only
         (the paper's method as it stands; for checks and baselines).

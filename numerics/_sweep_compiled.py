@@ -8,7 +8,10 @@ builds point by point with ``steady_states``, messages included.
 
 from __future__ import annotations
 
+import os
+import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -46,14 +49,29 @@ def supported(accuracy: dict) -> bool:
 #: progress bar moves and Ctrl-C is heard between them (the driver cannot be
 #: interrupted inside a call).
 BLOCK_SECONDS = 0.25
+#: The least lanes a thread walks: the lanes are split into groups walked at once, one
+#: thread per core, the driver releasing the GIL (a group's lanes share the kernel's SIMD
+#: instructions, so that fewer, fuller groups are better beyond this).
+LEAST_GROUP_LANES = 8
+
+
+def walk_threads(lanes: int) -> int:
+    """How many threads walk ``lanes`` lanes: one per core this process may run on, each
+    with at least LEAST_GROUP_LANES lanes."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return max(1, min(cores or 1, lanes // LEAST_GROUP_LANES))
 
 
 def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps_per_period,
                          tol, app_rtol, max_periods, method, refinements,
-                         keep_orbits=False, done=None) -> Orbits:
+                         keep_orbits=False, done=None, threads: int | None = None) -> Orbits:
     """``_sweep._sweep_lanes`` in compiled calls, a block of points at a time (each block
     continues from the last good orbit of every lane, as a point does): the points,
-    frequency by frequency. ``done(points)`` is called after each block."""
+    frequency by frequency. ``done(points)`` is called as blocks end.
+
+    The lanes are walked in ``threads`` groups at once (default ``walk_threads``). A
+    lane's arithmetic is its own, whatever lanes share its batch, so the points are
+    those of one group to the last bit (tests/test_sweep_compiled.py)."""
     if keep_orbits:
         raise ValueError("the compiled sweep does not keep orbits; use the Python route")
     accuracy = check_accuracy(steps_per_period=steps_per_period, tol=tol, app_rtol=app_rtol,
@@ -75,28 +93,77 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
         period = check_period_guess(start.period).astype(np.int64)
         y, v = start.y_start_m.astype(float), start.v_start_m_s.astype(float)
         app, continued = start.app_m.astype(float), True
-    seed = [np.ascontiguousarray(a) for a in (y, v, app, period)]
     table_steps, table_offset, tables = _drive_tables(steps, refinements)
     cap, limit = settling_cap(freq, numbers, max_periods), divergence_limit(model, freq)
     settings = (method == "newton", float(tol), -1.0 if app_rtol is None else float(app_rtol),
                 int(refinements), MAX_STEPS, float(numbers.y0_m or 1.0), tables, table_steps,
                 table_offset)
+    count = walk_threads(lanes) if threads is None else threads
+    groups = [np.arange(k, lanes, count) for k in range(count)]  # interleaved: alike loads
+
+    def walk(group: np.ndarray, report, stop: threading.Event) -> Orbits:
+        seed = [np.ascontiguousarray(a[group]) for a in (y, v, app, period)]
+        return _walk(kernels, freq[group], p_a[group], steps[group], cap[group], limit[group],
+                     seed, continued, settings, app_rtol, numbers.fastest_rate_per_s, report,
+                     stop)
+
+    if count == 1:
+        return walk(groups[0], done, threading.Event())
+    bar, stop = _Progress(done, count), threading.Event()
+    with ThreadPoolExecutor(count, thread_name_prefix="sweep") as pool:
+        futures = [pool.submit(walk, group, bar.reporter(k), stop)
+                   for k, group in enumerate(groups)]
+        try:
+            parts = [future.result() for future in futures]
+        except BaseException:  # Ctrl-C too: the other groups stop after their block
+            stop.set()
+            raise
+    return _interleave(parts, groups, freq.shape)
+
+
+def _walk(kernels, freq, p_a, steps, cap, limit, seed, continued, settings, app_rtol, rate,
+          done, stop: threading.Event) -> Orbits:
+    """One group of lanes walked, a block of points per call, until the end or ``stop``."""
     blocks, first, size = [], 0, 1
-    while first < freq.shape[1]:
+    while first < freq.shape[1] and not stop.is_set():
         block = slice(first, min(first + size, freq.shape[1]))
         started = time.perf_counter()
         points = block.stop - block.start
         out = _driver(kernels, freq[:, block], p_a, steps[:, block], cap[:, block],
                       limit[:, block], *seed, continued, settings, loading=not blocks)
-        p_a_table = np.broadcast_to(p_a, (points, lanes)).T
-        blocks.append(_orbits(kernels, freq[:, block], p_a_table, *out, app_rtol,
-                              numbers.fastest_rate_per_s))
+        p_a_table = np.broadcast_to(p_a, (points, freq.shape[0])).T
+        blocks.append(_orbits(kernels, freq[:, block], p_a_table, *out, app_rtol, rate))
         seed, continued = _last_good(kernels, out[0], out[1], seed), True
         if done is not None:
             done(points)
         per_point = (time.perf_counter() - started) / points
         first, size = block.stop, max(1, int(BLOCK_SECONDS / max(per_point, 1e-9)))
     return Orbits.stack(blocks)
+
+
+class _Progress:
+    """``done(points)`` for groups walked at once: the points every group has passed."""
+
+    def __init__(self, done, groups: int):
+        self.done, self.passed, self.told = done, [0] * groups, 0
+        self.lock = threading.Lock()
+
+    def reporter(self, group: int):
+        def report(points: int) -> None:
+            with self.lock:
+                self.passed[group] += points
+                now = min(self.passed)
+                if self.done is not None and now > self.told:
+                    self.done(now - self.told)
+                self.told = now
+        return report
+
+
+def _interleave(parts: list[Orbits], groups: list[np.ndarray], shape) -> Orbits:
+    """The groups' points as one walk's: point after point, the lanes of each in order."""
+    lanes, points = shape
+    row = [(np.arange(points)[:, None] * lanes + group[None, :]).ravel() for group in groups]
+    return Orbits.stack(parts).take(np.argsort(np.concatenate(row)))
 
 
 def _driver(kernels, freq, p_a, steps, cap, limit, y, v, app, period, continued, settings,

@@ -637,7 +637,8 @@ def _merge(lanes, fl, it, mult, maxima, minima, fine_fl, fine_it, fine_mult, fin
         it[lane, I_RUN] = cost
 
 
-@_jit
+# nogil: groups of lanes are walked at once, in threads (numerics._sweep_compiled).
+@numba.njit(cache=True, error_model="numpy", nogil=True)
 def sweep_lanes(freq, p_a, steps, cap, limit, y, v, app, period, continued, use_newton, tol,
                 app_rtol, refinements, max_steps, length, tables, table_steps, table_offset):
     """Walk every lane through its frequencies (``numerics._sweep._sweep_lanes``).

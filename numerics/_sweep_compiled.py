@@ -50,8 +50,9 @@ def supported(accuracy: dict) -> bool:
 #: interrupted inside a call).
 BLOCK_SECONDS = 0.25
 #: The least lanes a thread walks: the lanes are split into groups walked at once, one
-#: thread per core, the driver releasing the GIL (a group's lanes share the kernel's SIMD
-#: instructions, so that fewer, fuller groups are better beyond this).
+#: thread per core, the driver releasing the GIL. The kernels' vector loops take 8 lanes
+#: at a time; fewer run one by one (measured, 128 steps, on a loaded machine: a plain
+#: step 7.5 ns a lane at 8 lanes, 24 ns at 4; a step with the monodromy 8.5 and 44 ns).
 LEAST_GROUP_LANES = 8
 
 

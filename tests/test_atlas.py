@@ -89,8 +89,8 @@ def test_a_different_cut_gives_the_same_bits(monkeypatch):
 
 
 def test_the_cut_into_tasks_depends_on_the_cells_alone():
-    # The cut does not follow the workers (the module's docstring). Cells of 98 lanes at 128 steps: a task ends with the cell that
-    # reaches 2048 lanes, the 21st.
+    # The cut does not follow the workers (the module's docstring). Cells of 98 lanes at
+    # 128 steps: a task ends with the cell that reaches 2048 lanes, the 21st.
     sizes = [t.size for t in atlas_module.task_cells(np.full(100, 128), 98)]
     assert sizes == [21, 21, 21, 21, 16], sizes
     # Lanes with many steps keep their orbits (y at every step): fewer per task, and a

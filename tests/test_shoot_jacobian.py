@@ -48,6 +48,22 @@ def test_its_state_and_monodromy_are_shoot_periods_to_the_last_bit(lanes, by_for
     assert np.array_equal(jacobian[:, :, :2], monodromy)
 
 
+@pytest.mark.parametrize("count", [1, 2, 3, 8, 11, 20])
+def test_shoot_periods_gives_each_lane_its_own_numbers_in_any_batch(lanes, count):
+    # Batches run padded to whole vectors (11 and 20 lanes run as 16 and 24, 3 as 8, 2 as
+    # 8; 1 and 8 as they are): each lane's state and monodromy are those of it alone.
+    k = lanes["kernels"]
+    pick = np.arange(count) % 3
+    f, p_a = lanes["f"][pick] * (1 + 0.01 * np.arange(count)), lanes["p_a"][pick]
+    y, v, monodromy = lanes["y"][pick].copy(), lanes["v"][pick].copy(), np.empty((count, 2, 2))
+    k.shoot_periods(y, v, 1 / (STEPS * f), p_a, lanes["drive"], 2, monodromy)
+    for i in range(count):
+        y1, v1, m1 = lanes["y"][pick[[i]]].copy(), lanes["v"][pick[[i]]].copy(), np.empty((1, 2, 2))
+        k.shoot_periods(y1, v1, 1 / (STEPS * f[[i]]), p_a[[i]], lanes["drive"], 2, m1)
+        assert (y1[0], v1[0]) == (y[i], v[i]) and np.array_equal(m1[0], monodromy[i])
+    assert k.padded_width(count) == {1: 1, 2: 8, 3: 8, 8: 8, 11: 16, 20: 24}[count]
+
+
 #: Measured (2026-11-23) at h = 1e-3 of dt (of P_a): the smooth lanes' differences
 #: are 1.9e-5 and 4.8e-6 (6.9e-10 and 2.5e-9) off the column, a hundredth of those at
 #: 1e-2; the bouncing lane's 1.5e-2 (7.6e-8): a corner of the map lies within h. The

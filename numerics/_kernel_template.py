@@ -107,6 +107,35 @@ def hermite_extremum(y0, v0, y1, v1, dt):
     return s, value
 
 
+#: The vector loops over lanes take this many lanes at a time (LLVM's code for the
+#: kernels: 4 doubles a vector, two vectors an iteration); the lanes left over run one
+#: by one, and a step with the monodromy is then some 5 times dearer per lane.
+VECTOR_LANES = 8
+
+
+@numba.njit(cache=True, inline="always")
+def padded_width(lanes):
+    """The lanes a batch runs as: whole vectors, where two or more lanes are left over
+    (measured, shoot_periods at 128 steps: 20 lanes 201 -> 134 ns a step, 4 lanes
+    114 -> 48 ns; one lane left over is as cheap alone)."""
+    rest = lanes % VECTOR_LANES
+    return lanes if rest < 2 else lanes + VECTOR_LANES - rest
+
+
+@numba.njit(cache=True, inline="always")
+def padded(a, width):
+    """A copy of the lanes ``a``, padded with copies of its first lane to ``width``."""
+    out = np.empty(width)
+    out[:a.shape[0]] = a
+    out[a.shape[0]:] = a[0] if a.shape[0] else 0.0
+    return out
+
+
+#: record_periods runs this many steps of every lane into a buffer, then reads each
+#: lane's extrema from it: the buffer stays small (2 x 257 x lanes numbers) at any step.
+RECORD_BLOCK = 256
+
+
 @numba.njit(cache=True)
 def record_periods(
     y, v, dt, p_a, drive, periods, failed_period, first_period,
@@ -119,42 +148,69 @@ def record_periods(
         [m], its phase in periods since the recording began, +1 for a maximum
         and -1 for a minimum, and the count per lane; width 0 when not asked for.
     history_y, history_v : y and v after every step; width 0 when not asked for.
+
+    The steps run lanes innermost (padded to whole vectors, as ``shoot_periods``) into
+    a buffer of RECORD_BLOCK steps; each lane's steps are then read in order: the
+    numbers are those of finding the extrema step by step, which did not vectorise.
     """
     steps = (drive.shape[0] - 1) // 2
     lanes = y.shape[0]
-    capacity = ext_value.shape[1]
-    keep_history = history_y.shape[1] > 0
+    width = padded_width(lanes)
+    ys, vs, dts, pas = padded(y, width), padded(v, width), padded(dt, width), padded(p_a, width)
+    block_y = np.empty((RECORD_BLOCK + 1, width))  # row 0: the state before the block
+    block_v = np.empty((RECORD_BLOCK + 1, width))
     for lane in range(lanes):
         ymin[lane] = y[lane]
         ymax[lane] = y[lane]
         ext_count[lane] = 0
     for period in range(periods):
-        for k in range(steps):
-            c0, ch, c1 = drive_at_step(drive, k)
+        for start in range(0, steps, RECORD_BLOCK):
+            count = min(RECORD_BLOCK, steps - start)
+            block_y[0, :] = ys
+            block_v[0, :] = vs
+            for j in range(count):
+                c0, ch, c1 = drive_at_step(drive, start + j)
+                for lane in range(width):
+                    pa = pas[lane]
+                    ys[lane], vs[lane] = rk4_step(ys[lane], vs[lane], dts[lane], pa * c0,
+                                                  pa * ch, pa * c1)
+                    block_y[j + 1, lane] = ys[lane]
+                    block_v[j + 1, lane] = vs[lane]
             for lane in range(lanes):
-                y0 = y[lane]
-                v0 = v[lane]
-                pa = p_a[lane]
-                y1, v1 = rk4_step(y0, v0, dt[lane], pa * c0, pa * ch, pa * c1)
-                y[lane] = y1
-                v[lane] = v1
-                ymin[lane] = min(ymin[lane], y1)
-                ymax[lane] = max(ymax[lane], y1)
-                if keep_history:
-                    history_y[lane, period * steps + k] = y1
-                    history_v[lane, period * steps + k] = v1
-                # A local extremum lies where v changes sign within the step.
-                if (v0 > 0.0 and v1 <= 0.0) or (v0 < 0.0 and v1 >= 0.0):
-                    s, value = hermite_extremum(y0, v0, y1, v1, dt[lane])
-                    ymin[lane] = min(ymin[lane], value)
-                    ymax[lane] = max(ymax[lane], value)
-                    n = ext_count[lane]
-                    if n < capacity:
-                        ext_value[lane, n] = value
-                        ext_phase[lane, n] = period + (k + s) / steps
-                        ext_kind[lane, n] = 1 if v0 > 0.0 else -1
-                    ext_count[lane] = n + 1
+                read_steps(block_y, block_v, lane, count, period, start, steps, dts[lane],
+                           ymin, ymax, ext_value, ext_phase, ext_kind, ext_count, history_y,
+                           history_v)
+        y[:] = ys[:lanes]
+        v[:] = vs[:lanes]
         mark_failed(y, v, failed_period, first_period + period, limit)
+
+
+@numba.njit(cache=True, inline="always")
+def read_steps(block_y, block_v, lane, count, period, start, steps, dt, ymin, ymax, ext_value,
+               ext_phase, ext_kind, ext_count, history_y, history_v):
+    """record_periods' reading of one lane's ``count`` steps from the buffer, in order."""
+    capacity = ext_value.shape[1]
+    keep_history = history_y.shape[1] > 0
+    for j in range(count):
+        k = start + j
+        y0, v0 = block_y[j, lane], block_v[j, lane]
+        y1, v1 = block_y[j + 1, lane], block_v[j + 1, lane]
+        ymin[lane] = min(ymin[lane], y1)
+        ymax[lane] = max(ymax[lane], y1)
+        if keep_history:
+            history_y[lane, period * steps + k] = y1
+            history_v[lane, period * steps + k] = v1
+        # A local extremum lies where v changes sign within the step.
+        if (v0 > 0.0 and v1 <= 0.0) or (v0 < 0.0 and v1 >= 0.0):
+            s, value = hermite_extremum(y0, v0, y1, v1, dt)
+            ymin[lane] = min(ymin[lane], value)
+            ymax[lane] = max(ymax[lane], value)
+            n = ext_count[lane]
+            if n < capacity:
+                ext_value[lane, n] = value
+                ext_phase[lane, n] = period + (k + s) / steps
+                ext_kind[lane, n] = 1 if v0 > 0.0 else -1
+            ext_count[lane] = n + 1
 
 
 @numba.njit(cache=True)
@@ -229,30 +285,6 @@ def rk4_step_columns(y, v, dt, p_a, c0, ch, c1, dy, dv, dt_seed, p_a_seed):
         dy[col] = e1 + dt / 6.0 * (g1 + 2.0 * g2 + 2.0 * g3 + g4) + t / 6.0 * sum_v
         dv[col] = g1 + dt / 6.0 * (da1 + 2.0 * da2 + 2.0 * da3 + da4) + t / 6.0 * sum_a
     return y + dt / 6.0 * sum_v, v + dt / 6.0 * sum_a
-
-
-#: The vector loops over lanes take this many lanes at a time (LLVM's code for the
-#: kernels: 4 doubles a vector, two vectors an iteration); the lanes left over run one
-#: by one, and a step with the monodromy is then some 5 times dearer per lane.
-VECTOR_LANES = 8
-
-
-@numba.njit(cache=True, inline="always")
-def padded_width(lanes):
-    """The lanes a batch runs as: whole vectors, where two or more lanes are left over
-    (measured, shoot_periods at 128 steps: 20 lanes 201 -> 134 ns a step, 4 lanes
-    114 -> 48 ns; one lane left over is as cheap alone)."""
-    rest = lanes % VECTOR_LANES
-    return lanes if rest < 2 else lanes + VECTOR_LANES - rest
-
-
-@numba.njit(cache=True, inline="always")
-def padded(a, width):
-    """A copy of the lanes ``a``, padded with copies of its first lane to ``width``."""
-    out = np.empty(width)
-    out[:a.shape[0]] = a
-    out[a.shape[0]:] = a[0] if a.shape[0] else 0.0
-    return out
 
 
 @numba.njit(cache=True)

@@ -86,3 +86,54 @@ def test_self_convergence_through_loss_of_contact(weight):
     # Over the whole range 100 -> 800 the error falls at least like step^2 (8^2 = 64);
     # single doublings vary with where the crossings fall (measured 7.5, 3.0, 14.8).
     assert errors[0] / errors[-1] >= 64, f"error ratio {errors[0] / errors[-1]:.3g}; {errors}"
+
+
+@pytest.mark.parametrize("count", [1, 3, 8, 20])
+def test_recording_gives_each_lane_the_numbers_of_its_steps(count):
+    # record_periods runs the steps of all lanes (padded to whole vectors) in blocks of
+    # RECORD_BLOCK, then reads each lane's steps: 600 steps are three blocks, the last
+    # short. Every lane's numbers are those of it alone, its final state that of the plain
+    # march, its extrema the sign changes of v in its history, min and max over them.
+    from numerics import drive_table
+
+    model = ContactModel()
+    k, y0, q = compiled_kernels(model), eq26_numbers().y0_m, model.parameters.Q_n
+    steps, periods = 600, 2
+    assert steps > 2 * k.RECORD_BLOCK
+    drive = drive_table(steps)
+    f = np.linspace(300.0, 1500.0, count)
+    p_a = np.linspace(0.05, 0.5, count) * q
+    y, v = np.linspace(-20.0, 2.0, count) * y0, np.zeros(count)
+
+    def record(lanes):
+        n = lanes.size
+        out = dict(y=y[lanes].copy(), v=v[lanes].copy(), ymin=np.empty(n), ymax=np.empty(n),
+                   value=np.empty((n, 64)), phase=np.empty((n, 64)),
+                   kind=np.empty((n, 64), dtype=np.int8), count=np.zeros(n, dtype=np.int64),
+                   hy=np.empty((n, periods * steps)), hv=np.empty((n, periods * steps)))
+        k.record_periods(out["y"], out["v"], 1 / (steps * f[lanes]), p_a[lanes], drive,
+                         periods, np.full(n, -1), 0, out["ymin"], out["ymax"], out["value"],
+                         out["phase"], out["kind"], out["count"], out["hy"], out["hv"],
+                         np.full(n, np.inf))
+        return out
+
+    every = record(np.arange(count))
+    marched_y, marched_v = y.copy(), v.copy()
+    k.advance_periods(marched_y, marched_v, 1 / (steps * f), p_a, drive, periods,
+                      np.full(count, -1), np.full(count, np.inf))
+    assert np.array_equal(every["y"], marched_y) and np.array_equal(every["v"], marched_v)
+    for i in range(count):
+        alone = record(np.array([i]))
+        n = every["count"][i]
+        for name, value in alone.items():
+            mine, theirs = value[0], every[name][i]
+            if name in ("value", "phase", "kind"):  # the first n are written
+                mine, theirs = mine[:n], theirs[:n]
+            assert np.array_equal(mine, theirs), name
+        hv = np.concatenate([[v[i]], every["hv"][i]])
+        turns = np.flatnonzero(((hv[:-1] > 0) & (hv[1:] <= 0)) | ((hv[:-1] < 0) & (hv[1:] >= 0)))
+        assert n == turns.size
+        assert np.array_equal(every["kind"][i, :n], np.where(hv[turns] > 0, 1, -1))
+        values = every["value"][i, :n]
+        assert every["ymax"][i] == max(y[i], every["hy"][i].max(), values.max(initial=-np.inf))
+        assert every["ymin"][i] == min(y[i], every["hy"][i].min(), values.min(initial=np.inf))

@@ -20,7 +20,7 @@ import time
 
 import numpy as np
 
-from numerics import sweep
+from numerics import _sweep_compiled, sweep
 from perturb import PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, eq26_numbers
 
 from ._textbook import PARAMETERS, brute_force_sweep, dop853_point
@@ -73,6 +73,18 @@ def dop853(result) -> float:
     return per_point * sum(len(r.frequency_hz) for r in result.runs)
 
 
+def in_one_thread(job):
+    """``job`` with the compiled sweep walking all its lanes in one thread."""
+    def run():
+        threads = _sweep_compiled.walk_threads
+        _sweep_compiled.walk_threads = lambda lanes: 1
+        try:
+            return job()
+        finally:
+            _sweep_compiled.walk_threads = threads
+    return run
+
+
 def main() -> None:
     # engine="compiled": the default "auto" takes it only once its driver is built.
     job = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS, engine="compiled")  # noqa: E731
@@ -81,6 +93,7 @@ def main() -> None:
     python_route = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS, engine="python")  # noqa: E731
     result = job()
     warm, warm_python = interleaved_medians(job, python_route, repeats=7)
+    threaded, one_thread = interleaved_medians(job, in_one_thread(job), repeats=7)
     # 11 pairs: at load 1.0 (2026-11-23), with 7, the checked job took 0.221 s here and
     # 0.165 s in its pairs with the Python route just before: the machine, not the check.
     warm_checked, warm_unchecked = interleaved_medians(job, unchecked, repeats=11)
@@ -92,6 +105,9 @@ def main() -> None:
            f"steady states")
     row("compiled sweep, warm [s] vs Python-driven (goal 0.1)", warm, warm_python, "s",
         higher_is_better=False)
+    threads = _sweep_compiled.walk_threads(len(result.runs))
+    row(f"  its lanes in {threads} thread(s), one per core [s] vs in one", threaded,
+        one_thread, "s", higher_is_better=False)
     row("shooting sweep, kernels cached [s] vs brute force", warm, brute, "s",
         higher_is_better=False)
     row("shooting sweep, kernels cached [s] vs DOP853", warm, scipy_s, "s",

@@ -109,15 +109,14 @@ def hermite_extremum(y0, v0, y1, v1, dt):
 
 #: The vector loops over lanes take this many lanes at a time (LLVM's code for the
 #: kernels: 4 doubles a vector, two vectors an iteration); the lanes left over run one
-#: by one, and a step with the monodromy is then some 5 times dearer per lane.
+#: by one, several times dearer each (bench_kernel's "batches and whole vectors").
 VECTOR_LANES = 8
 
 
 @numba.njit(cache=True, inline="always")
 def padded_width(lanes):
     """The lanes a batch runs as: whole vectors, where two or more lanes are left over
-    (measured, shoot_periods at 128 steps: 20 lanes 201 -> 134 ns a step, 4 lanes
-    114 -> 48 ns; one lane left over is as cheap alone)."""
+    (one lane left over costs about what a vector of copies would)."""
     rest = lanes % VECTOR_LANES
     return lanes if rest < 2 else lanes + VECTOR_LANES - rest
 

@@ -1,10 +1,10 @@
-"""The sweep's per-frequency loop in one compiled call (``_sweep_template.sweep_lanes``).
+"""The sweep's per-frequency loop in compiled calls (``_sweep_template.sweep_lanes``).
 
 Python prepares every point's numbers (steps per period, settling cap, divergence
 limit, the drive tables of every step count a pass may take), calls the compiled
-driver once, and builds the same ``Orbits`` that ``_sweep._sweep_lanes_python``
-builds point by point with ``steady_states``, messages included.
-"""
+driver once per block of points (the lanes in groups, a thread each), and builds the
+same ``Orbits`` that ``_sweep._sweep_lanes_python`` builds point by point with
+``steady_states``, messages included."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from common import Status
+from common import Status, check_int
 from perturb import eq26_numbers
 
 from ._codegen import compiled_kernels
@@ -49,18 +49,12 @@ def supported(accuracy: dict) -> bool:
 #: progress bar moves and Ctrl-C is heard between them (the driver cannot be
 #: interrupted inside a call).
 BLOCK_SECONDS = 0.25
-#: The least lanes a thread walks: the lanes are split into groups walked at once, one
-#: thread per core, the driver releasing the GIL. The kernels' vector loops take 8 lanes
-#: at a time; fewer run one by one (measured, 128 steps, on a loaded machine: a plain
-#: step 7.5 ns a lane at 8 lanes, 24 ns at 4; a step with the monodromy 8.5 and 44 ns).
-LEAST_GROUP_LANES = 8
-
-
-def walk_threads(lanes: int) -> int:
+def walk_threads(lanes: int, least: int) -> int:
     """How many threads walk ``lanes`` lanes: one per core this process may run on, each
-    with at least LEAST_GROUP_LANES lanes."""
+    with at least ``least`` lanes (the kernels' ``VECTOR_LANES``: their vector loops take
+    that many lanes at a time, fewer run one by one; ``bench_kernel`` measures both)."""
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return max(1, min(cores or 1, lanes // LEAST_GROUP_LANES))
+    return max(1, min(cores or 1, lanes // least))
 
 
 def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps_per_period,
@@ -68,11 +62,14 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
                          keep_orbits=False, done=None, threads: int | None = None) -> Orbits:
     """``_sweep._sweep_lanes`` in compiled calls, a block of points at a time (each block
     continues from the last good orbit of every lane, as a point does): the points,
-    frequency by frequency. ``done(points)`` is called as blocks end.
+    frequency by frequency. ``done(points)`` is called as blocks end (from the groups'
+    threads, when there are several).
 
-    The lanes are walked in ``threads`` groups at once (default ``walk_threads``). A
-    lane's arithmetic is its own, whatever lanes share its batch, so the points are
-    those of one group to the last bit (tests/test_sweep_compiled.py)."""
+    The lanes are walked in ``threads`` groups at once, a thread each (default
+    ``walk_threads``). A lane's arithmetic is its own, whatever lanes share its batch,
+    so the points are those of one walk of all lanes, to the last bit
+    (tests/test_sweep_compiled.py). An error in one group stops the others after their
+    block, and is raised."""
     if keep_orbits:
         raise ValueError("the compiled sweep does not keep orbits; use the Python route")
     accuracy = check_accuracy(steps_per_period=steps_per_period, tol=tol, app_rtol=app_rtol,
@@ -99,14 +96,19 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
     settings = (method == "newton", float(tol), -1.0 if app_rtol is None else float(app_rtol),
                 int(refinements), MAX_STEPS, float(numbers.y0_m or 1.0), tables, table_steps,
                 table_offset)
-    count = walk_threads(lanes) if threads is None else threads
+    count = (walk_threads(lanes, kernels.VECTOR_LANES) if threads is None
+             else check_int("threads", threads, minimum=1))
     groups = [np.arange(k, lanes, count) for k in range(count)]  # interleaved: alike loads
 
     def walk(group: np.ndarray, report, stop: threading.Event) -> Orbits:
         seed = [np.ascontiguousarray(a[group]) for a in (y, v, app, period)]
-        return _walk(kernels, freq[group], p_a[group], steps[group], cap[group], limit[group],
-                     seed, continued, settings, app_rtol, numbers.fastest_rate_per_s, report,
-                     stop)
+        try:
+            return _walk(kernels, freq[group], p_a[group], steps[group], cap[group],
+                         limit[group], seed, continued, settings, app_rtol,
+                         numbers.fastest_rate_per_s, report, stop)
+        except BaseException:
+            stop.set()  # the other groups stop after their block
+            raise
 
     if count == 1:
         return walk(groups[0], done, threading.Event())

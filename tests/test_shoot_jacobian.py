@@ -48,7 +48,7 @@ def test_its_state_and_monodromy_are_shoot_periods_to_the_last_bit(lanes, by_for
     assert np.array_equal(jacobian[:, :, :2], monodromy)
 
 
-@pytest.mark.parametrize("count", [1, 2, 3, 8, 11, 20])
+@pytest.mark.parametrize("count", [1, 2, 3, 8, 9, 11, 17, 20])
 def test_shoot_periods_gives_each_lane_its_own_numbers_in_any_batch(lanes, count):
     # Batches run padded to whole vectors (11 and 20 lanes run as 16 and 24, 3 as 8, 2 as
     # 8; 1 and 8 as they are): each lane's state and monodromy are those of it alone.
@@ -61,7 +61,14 @@ def test_shoot_periods_gives_each_lane_its_own_numbers_in_any_batch(lanes, count
         y1, v1, m1 = lanes["y"][pick[[i]]].copy(), lanes["v"][pick[[i]]].copy(), np.empty((1, 2, 2))
         k.shoot_periods(y1, v1, 1 / (STEPS * f[[i]]), p_a[[i]], lanes["drive"], 2, m1)
         assert (y1[0], v1[0]) == (y[i], v[i]) and np.array_equal(m1[0], monodromy[i])
-    assert k.padded_width(count) == {1: 1, 2: 8, 3: 8, 8: 8, 11: 16, 20: 24}[count]
+    assert k.padded_width(count) == {1: 1, 2: 8, 3: 8, 8: 8, 9: 9, 11: 16, 17: 17,
+                                     20: 24}[count]
+    # Its state is the plain march's too: the approach check of a sweep marches on from
+    # Newton's first shot as if it had marched those periods itself.
+    y2, v2 = lanes["y"][pick].copy(), lanes["v"][pick].copy()
+    k.advance_periods(y2, v2, 1 / (STEPS * f), p_a, lanes["drive"], 2, np.full(count, -1),
+                      np.full(count, np.inf))
+    assert np.array_equal(y, y2) and np.array_equal(v, v2)
 
 
 #: Measured (2026-11-23) at h = 1e-3 of dt (of P_a): the smooth lanes' differences

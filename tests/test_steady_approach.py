@@ -81,10 +81,10 @@ def test_a_lane_that_approaches_then_departs_is_not_accepted_early():
 
 def test_the_staged_check_gives_the_verdicts_of_one_stage(monkeypatch):
     # The 25 Hz grid, all ten panels: large steps make large first distances, 15 lanes
-    # rejected (4 of them jumps). Measured: every point the same; 29,943 periods run
-    # against 40,551 with one stage (0.74).
-    # The saving exists: at most 0.8 of the periods (measured 0.74).
-    staged_against_one_stage(63, monkeypatch, 0.8)
+    # rejected (4 of them jumps). Measured: every point the same; 19,162 periods run
+    # against 30,118 with one stage (0.64; 2026-11-23, with the Newton try after a march).
+    # The saving exists: at most 0.7 of the periods.
+    staged_against_one_stage(63, monkeypatch, 0.7)
 
 
 def test_a_period_two_orbit_is_checked_in_stages_of_whole_orbits(monkeypatch):
@@ -116,5 +116,6 @@ def test_a_period_two_orbit_is_checked_in_stages_of_whole_orbits(monkeypatch):
 
 @pytest.mark.slow
 def test_the_fig2_fig3_job_gives_the_verdicts_of_one_stage(monkeypatch):
-    # Measured: all 6,220 points the same, 101,970 periods run against 163,530 (0.62).
-    staged_against_one_stage(311, monkeypatch, 0.65)
+    # Measured: all 6,220 points the same, 76,939 periods run against 139,003 (0.55;
+    # 2026-11-23, with the Newton try after a march).
+    staged_against_one_stage(311, monkeypatch, 0.6)

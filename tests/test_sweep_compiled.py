@@ -91,6 +91,49 @@ def test_settings_match_the_python_sweep(settings, status):
     assert status in np.concatenate([run.status for run in compiled.runs])
 
 
+def test_newton_tries_after_a_march_that_fail_match_the_python_sweep():
+    # A lane still moving after 16 periods of a march tries Newton from there; at 1.5 and
+    # 2 Q near 1400 Hz no orbit it finds is one the march approaches, so every lane marches
+    # on to its cap of 40 periods and is not settled, on both routes alike.
+    compiled, python = both(np.linspace(1390.0, 1410.0, 5), [1.5, 2.0], max_periods=40)
+    assert_same_sweep(compiled, python)
+    points = [np.concatenate([getattr(r, name) for r in compiled.runs])
+              for name in ("status", "periods_run")]
+    assert (points[0] == Status.NOT_SETTLED).all()
+    assert (points[1] > 40 * (1 + 2**2)).any()  # the try ran, beside 40 periods a pass
+
+
+def test_an_error_in_one_group_of_lanes_stops_the_others(monkeypatch):
+    # Groups of lanes walk in threads: the first error stops the other groups after
+    # their block (not after the whole walk), and is raised.
+    import threading
+
+    from numerics import _sweep_compiled
+
+    blocks = []
+
+    def walk(kernels, freq, *args):
+        report, stop = args[-2:]
+        if freq[0, 0] == 1000.0:  # the group of lane 1
+            raise RuntimeError("broken group")
+        for _ in range(1000):
+            if stop.is_set():
+                return None
+            blocks.append(threading.get_ident())
+            stop.wait(0.005)
+        return None
+
+    monkeypatch.setattr(_sweep_compiled, "_walk", walk)
+    freq = np.array([[900.0, 950.0], [1000.0, 1050.0]])
+    with pytest.raises(RuntimeError, match="broken group"):
+        _sweep_compiled.sweep_lanes_compiled(freq, np.full(2, 0.1 * PAPER.Q_n),
+                                             ContactModel(), threads=2, **ACCURACY)
+    assert len(blocks) < 1000
+    with pytest.raises(ValueError, match="`threads`"):
+        _sweep_compiled.sweep_lanes_compiled(freq, 0.1 * PAPER.Q_n, ContactModel(),
+                                             threads=0, **ACCURACY)
+
+
 def test_failed_points_match_the_python_sweep():
     # Eq. 2.6's quadratic spring has no floor: at 0.15 Q the down sweep fails below
     # about 600 Hz (tests/test_sweep.py), and the sweep goes on from rest.

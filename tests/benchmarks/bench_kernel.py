@@ -102,6 +102,37 @@ def one_lane_against_many(lanes: int = 64, steps: int = 1024) -> tuple[float, fl
                  for n in (1, lanes))
 
 
+def batch_widths(steps: int = 128) -> dict[tuple[str, int], float]:
+    """ns per step of a whole batch of n lanes (contact lost), by kernel and n: the
+    kernels' vector loops take VECTOR_LANES lanes at a time and the lanes left over run
+    one by one; ``shoot_periods`` and ``record_periods`` pad a batch to whole vectors
+    where two or more are left over, ``advance_periods`` does not."""
+    model = ContactModel()
+    k, drive = compiled_kernels(model), drive_table(steps)
+    y0, q = eq26_numbers(model.parameters).y0_m, model.parameters.Q_n
+
+    def run(name, n):
+        y, v = np.full(n, -27.0 * y0), np.zeros(n)
+        dt, p_a = np.full(n, 1.0 / (steps * 400.0)), np.full(n, 0.15 * q)
+        if name == "shoot_periods":
+            k.shoot_periods(y, v, dt, p_a, drive, 4, np.empty((n, 2, 2)))
+        elif name == "advance_periods":
+            k.advance_periods(y, v, dt, p_a, drive, 4, np.full(n, -1), np.full(n, np.inf))
+        else:
+            k.record_periods(y, v, dt, p_a, drive, 4, np.full(n, -1), 0, np.empty(n),
+                             np.empty(n), np.empty((n, 64)), np.empty((n, 64)),
+                             np.empty((n, 64), dtype=np.int8), np.zeros(n, dtype=np.int64),
+                             np.empty((n, 0)), np.empty((n, 0)), np.full(n, np.inf))
+
+    cases = [("advance_periods", 4), ("advance_periods", 8), ("shoot_periods", 8),
+             ("shoot_periods", 9), ("shoot_periods", 16), ("shoot_periods", 20),
+             ("record_periods", 1), ("record_periods", 20)]
+    for case in cases:
+        run(*case)  # compiled / loaded
+    return {case: 1e9 * median_time(lambda case=case: run(*case), repeats=7) / (4 * steps)
+            for case in cases}
+
+
 def main() -> None:
     generated, textbook, lost = throughput()
     header(f"RK4 kernel: {LANES} lanes, full model, {lost:.0%} of lanes lose contact, one core")
@@ -110,6 +141,17 @@ def main() -> None:
     many, one = one_lane_against_many()[::-1]
     row("shoot_periods, 64 lanes [ns/lane-step] vs one lane [ns/step]", many, one, "ns",
         higher_is_better=False)
+    width = batch_widths()
+    vector = compiled_kernels(ContactModel()).VECTOR_LANES
+    header(f"batches and whole vectors ({vector} lanes): ns per step of the whole batch")
+    row("advance_periods, 4 lanes (one by one) vs 8 (one vector loop)",
+        width["advance_periods", 4], width["advance_periods", 8], "ns", higher_is_better=False)
+    row("shoot_periods, 9 lanes (the 9th alone) vs 8", width["shoot_periods", 9],
+        width["shoot_periods", 8], "ns", higher_is_better=False)
+    row("shoot_periods, 20 lanes (run as 24) vs 16", width["shoot_periods", 20],
+        width["shoot_periods", 16], "ns", higher_is_better=False)
+    row("record_periods, 20 lanes (run as 24) vs 1 lane", width["record_periods", 20],
+        width["record_periods", 1], "ns", higher_is_better=False)
     (import_cold, cold), (import_warm, warm) = compile_times()
     header("compile cost: a fresh process, empty cache (baseline) then cached")
     row("first simulate(), kernels cached on disk [s]", warm, cold, "s", higher_is_better=False)

@@ -20,8 +20,8 @@ import time
 
 import numpy as np
 
-from numerics import _sweep_compiled, sweep
-from perturb import PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, eq26_numbers
+from numerics import _sweep_compiled, compiled_kernels, sweep
+from perturb import PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel, eq26_numbers
 
 from ._textbook import PARAMETERS, brute_force_sweep, dop853_point
 from ._timing import header, interleaved_medians, row
@@ -77,7 +77,7 @@ def in_one_thread(job):
     """``job`` with the compiled sweep walking all its lanes in one thread."""
     def run():
         threads = _sweep_compiled.walk_threads
-        _sweep_compiled.walk_threads = lambda lanes: 1
+        _sweep_compiled.walk_threads = lambda lanes, least: 1
         try:
             return job()
         finally:
@@ -105,7 +105,8 @@ def main() -> None:
            f"steady states")
     row("compiled sweep, warm [s] vs Python-driven (goal 0.1)", warm, warm_python, "s",
         higher_is_better=False)
-    threads = _sweep_compiled.walk_threads(len(result.runs))
+    threads = _sweep_compiled.walk_threads(len(result.runs),
+                                           compiled_kernels(ContactModel()).VECTOR_LANES)
     row(f"  its lanes in {threads} thread(s), one per core [s] vs in one", threaded,
         one_thread, "s", higher_is_better=False)
     row("shooting sweep, kernels cached [s] vs brute force", warm, brute, "s",

@@ -7,10 +7,13 @@ of the simulator's RK4 map at N fixed steps per period (``_continuation_map``).
 
 - Predictor: a step ds along the unit tangent t of the branch in the scaled
   unknowns z = (y / y0, v / (omega0 y0), f / f_n0).
-- Corrector: Newton on the bordered system [R(z) = 0, t . (z - z_k) = ds].
+- Corrector: Newton on the bordered system [R(z) = 0, t . (z - z_k) = ds], given up
+  when an update is not at most half the one before (``_continuation_map._CONTRACTION``).
 - Step control: ds grows by 1.5 after an easy step (at most 3 iterations), shrinks
-  by 2 on a slow or failed Newton and whenever consecutive tangents differ by more
-  than ``max_angle``, so that no fold is stepped across unseen.
+  by 2 on a failed Newton, and by the share of ``max_angle`` over the turn (by 2 at
+  least) whenever consecutive tangents differ by more than ``max_angle``, so that no
+  fold is stepped across unseen. A step below ``_STALL_DS`` hands over to a step in f
+  alone first (a corner where the branch turns back), and only then shrinks on.
 - Stability: the Floquet multipliers, eigenvalues of the monodromy matrix; an orbit
   is stable when both lie inside the unit circle. As det M < 1 (the contact's
   damping), a multiplier leaves the circle only through +1 (a fold) or -1 (period
@@ -39,7 +42,7 @@ from scipy.signal import find_peaks
 from common import Result, Status, check_choice, check_int, check_positive, progress, result
 from perturb import ContactModel, eq26_numbers
 
-from ._continuation_map import PeriodMap, Point
+from ._continuation_map import PeriodMap, Point, floquet_multipliers
 from ._lanes import Lanes
 from ._simulate import check_model
 from ._steady import PERIODS_TRIED, lane_steps, steady_states
@@ -50,17 +53,31 @@ __all__ = ["Bifurcation", "Continuation", "ContinuedBranch", "continue_orbits", 
 DEFAULTS = {"steps_per_period": "auto", "ds_max": 0.02, "max_angle": 0.1, "max_points": 20_000}
 #: The least N of "auto": the map's corners (a step's stage crossing y = 0) grow with the
 #: step; at 0.15 Q, N = 128 shows zigzags of f by 0.27 Hz on the bouncing middle branch
-#: (taken for folds) and stops at 398 Hz, N = 512 none and reaches 355 Hz.
+#: (taken for folds) and stops at 398 Hz, N = 512 none and reaches 355 Hz (352.7 Hz with
+#: the contraction test).
 _AUTO_MIN_STEPS = 512
 #: "auto" doubles N, up to this, while a walk stops inside the band at a corner: at 0.15 Q
-#: the walks stop 11 Hz apart near the bouncing fold at 512 steps, and the branch passes
+#: the walk up stops near the bouncing fold (352.7 Hz) at 512 steps, and the branch passes
 #: it (the fold at 352.4 Hz, where a 1024-step sweep jumps) at 1024.
 _AUTO_MAX_STEPS = 2048
 #: How the message of a walk that stopped at a corner begins.
 _STUCK = "step below"
 _DS_START = 1e-3  # the first step, in z
 _DS_MIN = 1e-9  # below it the continuation gives up
+#: A step that shrinks below this (in z) has stalled at a corner of the map where the
+#: branch turns back (the arclength's plane beyond the corner meets no branch, and the
+#: steps creep towards the corner, ever shorter): a step in f alone is tried then, and
+#: only if none is taken does the step go on shrinking to _DS_MIN. At 0.15 Q, N = 1024,
+#: the walk spent some 3,600 of its 12,900 evaluations of R within 350-370 Hz on steps
+#: below 1e-5 (2026-11-23, Python walk).
+_STALL_DS = 1e-5
 _GROW, _SHRINK = 1.5, 0.5
+#: A step whose tangent turns by more than max_angle is shortened by this share of
+#: max_angle over the turn (the turn grows with the step), by _SHRINK at least. At 0.17 Q,
+#: N = 2048, the walks then end 5.8 Hz apart (263.8 and 269.6 Hz) and the bouncing fold
+#: is located; with _SHRINK alone, 7.5 Hz apart (263.8 and 271.3 Hz), the fold marked
+#: (2026-11-23, with the contraction test; 264.7 and 269.6 Hz, located, before it).
+_TURN_SHARE = 0.9
 #: A tangent that turns by more than max_angle over a step this short (in z) turns at a
 #: corner of the branch, not at a fold (the map is only piecewise smooth through loss
 #: of contact): the step is accepted. A fold within it is still seen (f turns). At
@@ -363,18 +380,50 @@ def walk_finest(make_shoot, steps: int, auto: bool, model, low: float, high: flo
     while a walk stops inside the band at a corner that Newton cannot pass (the map's
     corners shrink with the step), up to ``_AUTO_MAX_STEPS``: (the map, the branches, the
     bifurcations) of the walk that covered most of the band (of equal ones, the finest).
+
+    A walk up that stops at a corner goes on to twice the steps at once: the walk down at
+    its N is made only if the branches of the finest N tried do not span the whole band
+    (then a coarser N might cover more). At 0.15 Q the walk up at 512 steps stops near
+    the bouncing fold and the one at 1024 steps passes it: the walk down at 512 steps is
+    not made.
     """
-    best = None
+    tried = []  # per N, coarsest first: the arguments of its walks, and its walks
     while True:
-        shoot = make_shoot(steps)
-        branches, bifurcations = walk_band(shoot, model, low, high, ds_max, max_angle,
-                                           max_points, quiet)
-        walked = (_coverage(branches, shoot), shoot, branches, bifurcations)
-        best = walked if best is None or walked[0] >= best[0] else best
-        stuck = any(b.message.startswith(_STUCK) for b in branches)
-        if not (auto and stuck and 2 * steps <= _AUTO_MAX_STEPS):
-            return best[1:]
+        args = (make_shoot(steps), model, low, high, ds_max, max_angle, max_points, quiet)
+        walks = [_band_walk(*args, +1)]
+        finer = auto and 2 * steps <= _AUTO_MAX_STEPS
+        if not (finer and _stuck(walks)):
+            walks = _walked_down(walks, *args)
+        tried.append((args, walks))
+        if not (finer and _stuck(walks)):
+            break
         steps *= 2
+    finest = _covered(*tried[-1])
+    if finest[0] >= (1.0 - _WHOLE) * (high - low):
+        return finest[1:]
+    best = finest
+    for args, walks in reversed(tried[:-1]):  # of equal coverage, the finer is kept
+        coarser = _covered(args, _walked_down(walks, *args))
+        best = coarser if coarser[0] > best[0] else best
+    return best[1:]
+
+
+#: Branches that cover the band but for this share of it cover it whole (f at the band's
+#: edges is clipped to it in z, and scaled back with a round-off).
+_WHOLE = 1e-12
+
+
+def _covered(args, walks: list[_Walk]):
+    """(the band's length that the walks cover, the map, the branches, the bifurcations)."""
+    shoot, model = args[:2]
+    branches, bifurcations = _results(shoot, model, _join(walks))
+    return _coverage(branches, shoot), shoot, branches, bifurcations
+
+
+def _stuck(walks: list[_Walk]) -> bool:
+    """Whether a walk stopped at a corner of the map that Newton cannot pass (and was not
+    joined there by the walk from the other end)."""
+    return any(message.startswith(_STUCK) for *_, message in _join(walks))
 
 
 def _coverage(branches: list[ContinuedBranch], shoot: PeriodMap) -> float:
@@ -396,15 +445,29 @@ def walk_band(shoot: PeriodMap, model, low: float, high: float, ds_max, max_angl
     (``low``, ``high``: the parameter in its physical unit), walked up; if it ends inside
     the band, also the one from the upper end, walked down, joined to it where they meet.
     """
+    args = (shoot, model, low, high, ds_max, max_angle, max_points, quiet)
+    return _results(shoot, model, _join(_walked_down(
+        [_band_walk(*args, +1)], *args)))
+
+
+def _walked_down(walks: list[_Walk], shoot, model, low, high, ds_max, max_angle, max_points,
+                 quiet) -> list[_Walk]:
+    """``walks`` (the walk up), and the walk down from the band's upper end if the walk up
+    ended inside the band (at a corner of the map that Newton cannot pass, or at an
+    isola's edge) and there is none yet."""
+    if len(walks) == 1 and walks[0].status != Status.SUCCESS:
+        walks = [*walks, _band_walk(shoot, model, low, high, ds_max, max_angle, max_points,
+                                    quiet, -1)]
+    return walks
+
+
+def _band_walk(shoot, model, low, high, ds_max, max_angle, max_points, quiet,
+               direction: int) -> _Walk:
+    """One walk over the band, up (``direction`` +1) or down (-1), with its progress bar."""
     bar = _Coverage(low, high, quiet, shoot.steps)
-    walks = [_walk_from(shoot, model, low, high, +1, bar, ds_max, max_angle, max_points)]
-    if walks[0].status != Status.SUCCESS:
-        # The branch ended inside the band (at a corner of the map that Newton cannot
-        # pass, or at an isola's edge): walk it from the band's other end, down.
-        walks.append(_walk_from(shoot, model, low, high, -1, bar, ds_max, max_angle,
-                                max_points))
+    walk = _walk_from(shoot, model, low, high, direction, bar, ds_max, max_angle, max_points)
     bar.close()
-    return _results(shoot, model, _join(walks))
+    return walk
 
 
 def _walk_from(shoot, model, fmin_hz, fmax_hz, direction, bar, ds_max, max_angle,
@@ -480,8 +543,8 @@ class _Walk:
         self.pending_folds: list[tuple[int, float]] = []
         # The walk's numbers for the compiled steps, in _walk_template's order.
         self.settings = np.array([_DS_MIN, ds_max, max_angle, _GROW, _SHRINK, _CORNER_DS,
-                                  _EASY_ITERATIONS, *shoot.newton_settings(), self.f_lo,
-                                  self.f_hi])
+                                  _EASY_ITERATIONS, _STALL_DS, *shoot.newton_settings(),
+                                  self.f_lo, self.f_hi, _TURN_SHARE])
 
     def end(self, status: Status, message: str) -> None:
         self.status, self.message = status, message
@@ -500,14 +563,15 @@ class _Walk:
             if len(self.points) >= self.max_points:
                 self.end(Status.FAILED, f"gave up after {self.max_points} points (max_points)")
                 break
-            if self.shoot.walker is None:
-                step = self._step(ds)
-            else:
-                step, ds = self._compiled_steps(ds)
-                if step is _PLAIN:  # plain points kept, none needing Python: walk on
-                    continue
+            step, ds = self._arclength_steps(ds)
             if step is None:
                 step = self._natural_step()
+                if step is None and ds >= _DS_MIN:  # stalled: on, shorter, to _DS_MIN,
+                    step, ds = self._arclength_steps(ds)
+                    if step is None:  # and again in f alone from where that ended
+                        step = self._natural_step()
+            if step is _PLAIN:  # plain points kept, none needing Python: walk on
+                continue
             if step is None:
                 self.end(Status.FAILED, f"{_STUCK} {_DS_MIN:g} at "
                          f"{self.shoot.label(self.points[-1].z)}: Newton does not converge there")
@@ -568,6 +632,11 @@ class _Walk:
             return point, t, _DS_START
         return None
 
+    def _arclength_steps(self, ds: float):
+        """(the next step for Python to finish, as ``_step`` gives it, or None when it
+        failed, or _PLAIN; the ds to go on with): ``_step`` by the walk's engine."""
+        return self._step(ds) if self.shoot.walker is None else self._compiled_steps(ds)
+
     def _compiled_steps(self, ds: float):
         """``_step`` repeated in compiled code (``_walk_template.walk_steps``), keeping
         the plain points: (the step for Python to finish, as ``_step`` gives it, or None
@@ -590,7 +659,7 @@ class _Walk:
         if outcome == walker.WALK_FULL:
             return _PLAIN, float(state[0])
         if outcome == walker.WALK_FAILED:
-            return None, ds
+            return None, float(state[0])
         point = Point(z[kept], jac[kept], mono[kept], int(iterations[kept]))
         return (point, t[kept], float(state[0])), float(state[0])
 
@@ -599,10 +668,13 @@ class _Walk:
         self.tangents.append(t)
 
     def _step(self, ds: float):
-        """One accepted step from the last point: (point, tangent, next ds), or None."""
+        """One accepted step from the last point: ((point, tangent, next ds), next ds), or
+        (None, the ds it failed at: below _STALL_DS if it began above, else below
+        _DS_MIN)."""
         z, t = self.points[-1].z, self.tangents[-1]
-        while ds >= _DS_MIN:
-            point = self.shoot.correct(z + ds * t, t, t @ z + ds)
+        least = _STALL_DS if ds >= _STALL_DS else _DS_MIN
+        while ds >= least:
+            point = self.shoot.correct_step(z + ds * t, t, t @ z + ds)
             t_new = None if point is None else point.tangent(t, self.orientation)
             if point is not None and np.isfinite(t_new).all():  # no tangent: a failed step
                 angle = np.arccos(np.clip(t_new @ t, -1.0, 1.0))
@@ -611,17 +683,20 @@ class _Walk:
                     # An easy step grows the next; so does a step shorter than a corner
                     # (Newton may stay slow near one however short the step).
                     grow = point.iterations <= _EASY_ITERATIONS or ds < _CORNER_DS
-                    return point, t_new, min(ds * _GROW, self.ds_max) if grow else ds
+                    ds = min(ds * _GROW, self.ds_max) if grow else ds
+                    return (point, t_new, ds), ds
                 if ds < _CORNER_DS:
                     # The tangent turns as much over a step this short: a corner of the
                     # piecewise smooth map (a stage of a step crossing y = 0, Eq. 2.1),
                     # not a fold; walk on with the step taken before the corner.
                     resume, self.resume = self.resume or ds, None
-                    return point, t_new, resume
+                    return (point, t_new, resume), resume
                 if self.resume is None:  # the step to come back to after a corner
                     self.resume = ds
+                ds *= min(_SHRINK, _TURN_SHARE * self.max_angle / angle)
+                continue
             ds *= _SHRINK
-        return None
+        return None, ds
 
     def _bifurcations(self, point: Point, t: np.ndarray,
                       defer_folds: bool = False) -> list[tuple[str, float]]:
@@ -662,7 +737,7 @@ class _Walk:
         branch; the others (turns of a zigzag over the map's corners, dropped there)
         are only marked at the step's end, as one Brent's method cannot locate.
 
-        At 0.15 Q, N = 1024, the walk meets 70 folds, nearly all of them turns of the
+        At 0.15 Q, N = 1024, the walk meets 72 folds, nearly all of them turns of the
         zigzag about the bouncing fold, and locates 3 (``bench_continuation`` times
         the call against one that locates every fold met).
         """
@@ -876,7 +951,7 @@ def _zigzags(f: np.ndarray, turn: int) -> bool:
 
     Near a fold of a bouncing orbit the fixed-step map's corners make f zigzag: the
     branch turns back and forth, each turn a fold of the discrete map (at 0.15 Q,
-    N = 1024, f turns some 75 times within 352.36-353.34 Hz). Turns closer than
+    N = 1024, f turns some 50 times within 352.36-353.34 Hz). Turns closer than
     ``_FOLD_PROMINENCE`` are not told apart as folds, and which of them a walk locates
     depends on its steps: such a fold is known to that resolution, not to Brent's.
     """
@@ -897,7 +972,7 @@ def _results(shoot: PeriodMap, model, branches):
     for points, branch_marks, status, message in branches:
         branch_marks = _significant_folds(points, branch_marks)
         part = slice(first, first + len(points))
-        multipliers = np.array([p.multipliers for p in points]).reshape(-1, 2)
+        multipliers = floquet_multipliers(np.array([p.monodromy for p in points]).reshape(-1, 2, 2))
         stable = np.abs(multipliers).max(axis=1, initial=0.0) < 1.0
         out.append(ContinuedBranch(frequency_hz=f[part], pa_frac=pa_frac[part], app_m=app[part],
                                    stable=stable, period=shoot.period, multipliers=multipliers,

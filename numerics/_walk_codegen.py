@@ -52,8 +52,8 @@ def _smoke(module: ModuleType) -> None:
     numba loads (or compiles) the machine code here, so that a broken cache file shows
     now and is rebuilt."""
     drive = drive_table(4)
-    settings = np.zeros(module._F_HI + 1)  # no Newton iteration, the least ds 1e-3: one try
-    settings[module._DS_MIN] = 1e-3
+    settings = np.zeros(module._TURN_SHARE + 1)  # no Newton iteration, least ds 1e-3: one try
+    settings[module._DS_MIN] = settings[module._STALL] = 1e-3
     rows = 1
     module.walk_steps(np.ones(3), np.array([0.0, 0.0, 1.0]), np.eye(2), 1.0,
                       np.array([1e-3, -1.0]), np.ones(3), 4, 1, drive, False, 1.0, settings,

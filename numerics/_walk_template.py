@@ -20,10 +20,11 @@ import numpy as np
 
 # fmt: off
 # Indices into `settings`: the walk's numbers (filled by _continuation._Walk), then the
-# corrector's (PeriodMap.newton_settings), then the band's ends in z.
-_DS_MIN, _DS_MAX, _MAX_ANGLE, _GROW, _SHRINK, _CORNER_DS, _EASY = 0, 1, 2, 3, 4, 5, 6
-_TOL, _ITERATIONS, _REACH, _BACKTRACKS = 7, 8, 9, 10
-_F_LO, _F_HI = 11, 12
+# corrector's (PeriodMap.newton_settings), then the band's ends in z and the walk's
+# _TURN_SHARE.
+_DS_MIN, _DS_MAX, _MAX_ANGLE, _GROW, _SHRINK, _CORNER_DS, _EASY, _STALL = 0, 1, 2, 3, 4, 5, 6, 7
+_TOL, _ITERATIONS, _REACH, _BACKTRACKS, _CONTRACTION = 8, 9, 10, 11, 12
+_F_LO, _F_HI, _TURN_SHARE = 13, 14, 15
 # What walk_steps returns: the step failed (ds below its least), a step for Python to
 # finish (at index `kept` of the outputs), or the outputs are full.
 WALK_FAILED, WALK_PENDING, WALK_FULL = 0, 1, 2
@@ -91,9 +92,9 @@ def det3(a0, a1, b):
 @numba.njit(cache=True, error_model="numpy")
 def correct(z0, row, target, scale, steps, period, drive, force_is_parameter, other,
             settings, z_out, jac_out, mono_out):
-    """``PeriodMap.correct``: Newton on [R(z) = 0, row . z = target] from z0, with the
-    same line search; the iterations it took (0 when it does not converge), the point
-    into z_out, jac_out, mono_out."""
+    """``PeriodMap.correct_step``: Newton on [R(z) = 0, row . z = target] from z0, with
+    the same line search and contraction test; the iterations it took (0 when it does not
+    converge), the point into z_out, jac_out, mono_out."""
     z = z0.copy()
     jac, mono = np.empty((2, 3)), np.empty((2, 2))
     j_trial, m_trial = np.empty((2, 3)), np.empty((2, 2))
@@ -103,6 +104,7 @@ def correct(z0, row, target, scale, steps, period, drive, force_is_parameter, ot
     full[0], full[1] = period_map(z, scale, steps, period, drive, force_is_parameter, other,
                                   jac, mono)
     full[2] = row @ z - target
+    before = np.inf  # the largest component of the step before
     for iteration in range(1, int(settings[_ITERATIONS]) + 1):
         if not (np.isfinite(full).all() and np.isfinite(jac).all()):
             return 0
@@ -115,8 +117,9 @@ def correct(z0, row, target, scale, steps, period, drive, force_is_parameter, ot
             jac_out[:, :] = jac
             mono_out[:, :] = mono
             return iteration
-        if not largest < settings[_REACH]:
+        if not (largest < settings[_REACH] and largest <= settings[_CONTRACTION] * before):
             return 0
+        before = largest
         norm = math.sqrt(full @ full)
         reduced = False
         for _ in range(int(settings[_BACKTRACKS])):
@@ -179,7 +182,8 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
     """Steps from the last point (z_last, t_last, mono_last) until one needs Python.
 
     ``state`` is (ds, resume) in and out (resume < 0: none). The plain points go into
-    the outputs' first rows; returns (outcome, kept): WALK_FAILED (no step above ds_min),
+    the outputs' first rows; returns (outcome, kept): WALK_FAILED (no step above the
+    stall's ds, or ds_min if it began below that; state[0] the ds it failed at),
     WALK_PENDING (row ``kept`` holds a step that may cross a bifurcation or the band's
     edge, for Python to finish, and state[0] the ds after it) or WALK_FULL (every row
     holds a plain point).
@@ -189,7 +193,10 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
     for kept in range(z_out.shape[0]):
         ds, resume = state[0], state[1]
         accepted = False
-        while ds >= settings[_DS_MIN]:
+        # A step that began above the stall's ds hands back below it (Python tries a
+        # step in f alone); one that began below it shrinks to the least ds.
+        least = settings[_STALL] if ds >= settings[_STALL] else settings[_DS_MIN]
+        while ds >= least:
             guess[:] = z + ds * t
             iterations = correct(guess, t, t @ z + ds, scale, steps, period, drive,
                                  force_is_parameter, other, settings, z_new, jac_out[kept],
@@ -212,6 +219,9 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
                     break
                 if resume < 0.0:
                     resume = ds
+                # The tangent turned too far: shorter by the share of the turn allowed.
+                ds *= min(settings[_SHRINK], settings[_TURN_SHARE] * settings[_MAX_ANGLE] / angle)
+                continue
             ds *= settings[_SHRINK]
         state[1] = resume
         if not accepted:

@@ -68,13 +68,24 @@ def test_an_explicit_step_count_is_kept_even_where_the_walks_stop_at_corners():
     assert all(b.message.startswith("step below") for b in run.branches)
 
 
-def test_steps_in_f_alone_never_turn_a_walk_back_onto_its_own_points():
+def test_steps_in_f_alone_never_turn_a_walk_back_onto_its_own_points(monkeypatch):
     # Regression: at 0.17 Q a step in f alone landed on a point the walk had passed (where
     # f zigzags over corners) and the walk retraced its branch up to 1800 Hz, with two
-    # "folds" where it turned round. Now "auto" ends at 2048 steps with the walks 4.9 Hz
-    # apart; the bouncing fold (263.27 Hz) is the walk up's.
+    # "folds" where it turned round. Now "auto" ends at 2048 steps with the walks 5.8 Hz
+    # apart (263.77 and 269.60 Hz; 264.74 and 269.60 Hz before the walk's contraction
+    # test); the bouncing fold (263.27 Hz, located, +-0.15 Hz) is the walk up's.
+    from numerics import _continuation as c
+
+    made, band_walk = [], c._band_walk
+    monkeypatch.setattr(c, "_band_walk", lambda shoot, *args: made.append(
+        (shoot.steps, args[-1])) or band_walk(shoot, *args))
     run = continue_orbits(0.17, 250.0, 1800.0)
     assert run.settings["steps_per_period"] == 2048
+    # The walks up at 512 and 1024 steps stop at corners, and are walked again at twice
+    # the steps at once. The branches at 2048 steps span the band's whole range (the walk
+    # up turns back at 1318 Hz), so no coarser N could cover more: its walk down is not
+    # made (it was, before "auto" made it only when needed: six walks).
+    assert made == [(512, 1), (1024, 1), (2048, 1), (2048, -1)]
     assert [round(b.frequency_hz) for b in run.folds()] == [1318, 263]
     for branch in run.branches:
         states = np.c_[branch.y_start_m / np.abs(branch.y_start_m).max(),
@@ -116,9 +127,12 @@ def test_the_compiled_walk_reads_each_number_where_python_writes_it():
     module = shoot.walker
     expected = {"_DS_MIN": c._DS_MIN, "_DS_MAX": 0.03, "_MAX_ANGLE": 0.07, "_GROW": c._GROW,
                 "_SHRINK": c._SHRINK, "_CORNER_DS": c._CORNER_DS, "_EASY": c._EASY_ITERATIONS,
+                "_STALL": c._STALL_DS,
                 "_TOL": m.NEWTON_TOL, "_ITERATIONS": m.NEWTON_ITERATIONS,
                 "_REACH": m._NEWTON_REACH, "_BACKTRACKS": m._BACKTRACKS,
-                "_F_LO": 0.01 / shoot.scale[2], "_F_HI": 0.2 / shoot.scale[2]}
+                "_CONTRACTION": m._CONTRACTION,
+                "_F_LO": 0.01 / shoot.scale[2], "_F_HI": 0.2 / shoot.scale[2],
+                "_TURN_SHARE": c._TURN_SHARE}
     assert walk.settings.size == len(expected)
     for name, value in expected.items():
         assert walk.settings[getattr(module, name)] == value, name

@@ -3,6 +3,9 @@
 Issue 13's goal: under 0.5 s once compiled. Baselines, measured in the same run:
 - the sweep up and down of the same band on a 5 Hz grid (311 points each way), which
   sees only the stable parts;
+- the walk's corrections as before the contraction test and the stall hand-over
+  (emulated through their module constants), in time and in the Python walk's
+  evaluations of R;
 - continuation packages from the package index, pycont-lite and contique, driving
   ``continue_orbits``' own shooting residual from the same start points over the same
   band (``_pycont``): their time, residual calls, the points they reached and how far
@@ -40,6 +43,10 @@ def _continue():
     return continue_orbits(PA_FRAC, *BAND)
 
 
+def _continue_in_python():
+    return continue_orbits(PA_FRAC, *BAND, engine="python")
+
+
 def main() -> None:
     run = _continue()  # compile / load the kernels
     sweep(GRID, PA_FRAC)
@@ -52,6 +59,12 @@ def main() -> None:
     every = interleaved_medians(_continue, _continue_locating_every_fold, repeats=5)
     row("continue_orbits [s] vs locating every fold met (the route before, emulated) [s]", *every,
         "s", higher_is_better=False)
+    patient = interleaved_medians(_continue, lambda: _patiently(_continue), repeats=5)
+    row("continue_orbits [s] vs no contraction test, no stall hand-over (emulated) [s]",
+        *patient, "s", higher_is_better=False)
+    row("R evaluations of the Python walk: now vs that route before",
+        residual_calls(_continue_in_python),
+        residual_calls(lambda: _patiently(_continue_in_python)), higher_is_better=False)
     steps = run.settings["steps_per_period"]
     row("N steps per period the branch took ('auto')", steps)
     compiled, python = interleaved_medians(
@@ -84,6 +97,22 @@ def _continue_locating_every_fold():
         return _continue()
     finally:
         _continuation._NEAR_TURN = near
+
+
+def _patiently(function):
+    """``function()`` with the walk's corrections as before the contraction test and the
+    stall hand-over: Newton spends its 12 iterations at a corner, and a step shrinks to
+    ``_DS_MIN`` before a step in f alone is tried (``_continuation_map._CONTRACTION``,
+    ``_continuation._STALL_DS``). The walk down at the coarser N that "auto" no longer
+    makes is not emulated."""
+    from numerics import _continuation, _continuation_map
+
+    before = _continuation_map._CONTRACTION, _continuation._STALL_DS
+    _continuation_map._CONTRACTION, _continuation._STALL_DS = np.inf, _continuation._DS_MIN
+    try:
+        return function()
+    finally:
+        _continuation_map._CONTRACTION, _continuation._STALL_DS = before
 
 
 def _evaluation_routes(steps: int) -> tuple[float, float]:
@@ -128,7 +157,7 @@ def _beside_packages(run) -> None:
                         for b in run.branches]) / shoot.scale
     # The compiled walk evaluates R out of Python's sight: its calls are counted on the
     # Python walk, the reference that takes the same steps (engine="python").
-    python_walk_calls = residual_calls(lambda: continue_orbits(PA_FRAC, *BAND, engine="python"))
+    python_walk_calls = residual_calls(_continue_in_python)
     ours = {"points": sum(b.frequency_hz.size for b in run.branches),
             "calls": python_walk_calls,
             "largest |R|": residual_norms(shoot, ours_z).max(initial=0.0),

@@ -5,7 +5,8 @@
   (``_results.py``), written by the one JSON writer (``_json.py``);
 - the input checks of every public function (``_checks.py``) and the argument
   types of every command line (``_cli.py``);
-- progress on stderr (``_progress.py``, through tqdm);
+- progress on stderr (``_progress.py``, through tqdm), and the processors to use
+  (``_processors.py``);
 - a package's names imported at first use (``_lazy.py``);
 - ``GLOSSARY``: one name per quantity (``_glossary.py``, shown in the README).
 
@@ -35,6 +36,7 @@ from ._cli import (
 from ._glossary import GLOSSARY, glossary_table
 from ._json import dumps, jsonable, write_json
 from ._lazy import lazy_names
+from ._processors import processors
 from ._progress import note, progress
 from ._results import RESULT_CLASSES, Result, from_dict, load, result
 from ._status import Status
@@ -65,6 +67,7 @@ __all__ = [
     "note",
     "output_dir",
     "output_file",
+    "processors",
     "positive_float",
     "progress",
     "result",

@@ -21,7 +21,6 @@ complete.
 from __future__ import annotations
 
 import multiprocessing
-import os
 import sys
 import time
 from collections import Counter
@@ -29,7 +28,7 @@ from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_complet
 
 import numpy as np
 
-from common import Result, Status, check_int, check_positive, progress, result
+from common import Result, Status, check_int, check_positive, processors, progress, result
 from perturb import ContactModel, eq26_numbers
 
 from ._attractors import (
@@ -338,13 +337,6 @@ def _local_pool(workers: int) -> Executor:
     return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(method))
 
 
-def default_workers() -> int:
-    """The processors this process may run on."""
-    if hasattr(os, "sched_getaffinity"):
-        return len(os.sched_getaffinity(0))
-    return os.cpu_count() or 1
-
-
 def _check_executor(executor, workers) -> tuple[Executor | None, int]:
     if executor is not None:
         if not isinstance(executor, Executor):
@@ -354,7 +346,7 @@ def _check_executor(executor, workers) -> tuple[Executor | None, int]:
             raise ValueError("`workers` sizes the default pool: give `executor` or "
                              f"`workers`, not both (got workers={workers!r}).")
         return executor, 0
-    return None, default_workers() if workers is None else check_int("workers", workers)
+    return None, processors() if workers is None else check_int("workers", workers)
 
 
 def _grid_size(grid, axis: int) -> int:

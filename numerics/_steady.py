@@ -593,15 +593,16 @@ def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, c
 
 
 def _newton_from(batch: _Batch, state: Orbits, group, y, v, p: int, span, reach, method: str,
-                 check: bool) -> None:
+                 check: bool) -> np.ndarray:
     """Newton from (y, v) on the lanes ``group``: an orbit that converges within ``reach``,
-    stable and (``check``) approached by a march from (y, v) is accepted."""
+    stable and (``check``) approached by a march from (y, v) is accepted; which were."""
     monodromy = np.empty((group.size, 2, 2))
     ok, yn, vn, mult, shot = batch.newton(group, y, v, p, span, reach, monodromy)
     if check:
         ok[ok] = batch.follows(group[ok], y[ok], v[ok], yn[ok], vn[ok], p, span[ok],
                                monodromy[ok], (shot[0][ok], shot[1][ok]))
     _accept(state, group[ok], yn[ok], vn[ok], p, mult[ok], method)
+    return ok
 
 
 def _march(batch: _Batch, state: Orbits, rest, y, v, guess, cap, failed_period,
@@ -633,9 +634,8 @@ def _march(batch: _Batch, state: Orbits, rest, y, v, guess, cap, failed_period,
         group, marched_y, marched_v = rest[chosen], ym[chosen], vm[chosen]
         if newton:
             # Polish: the marched state is within about tol of the orbit.
-            ok, yn, vn, mult, _ = batch.newton(group, marched_y, marched_v, int(p),
-                                               span[chosen], _REACH_POLISH)
-            _accept(state, group[ok], yn[ok], vn[ok], int(p), mult[ok], "march+newton")
+            ok = _newton_from(batch, state, group, marched_y, marched_v, int(p), span[chosen],
+                              _REACH_POLISH, "march+newton", check=False)
             group, marched_y, marched_v = group[~ok], marched_y[~ok], marched_v[~ok]
         _accept(state, group, marched_y, marched_v, int(p), None, "march")
 

@@ -8,14 +8,13 @@ same ``Orbits`` that ``_sweep._sweep_lanes_python`` builds point by point with
 
 from __future__ import annotations
 
-import os
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from common import Status, check_int
+from common import Status, check_int, processors
 from perturb import eq26_numbers
 
 from ._codegen import compiled_kernels
@@ -53,8 +52,7 @@ def walk_threads(lanes: int, least: int) -> int:
     """How many threads walk ``lanes`` lanes: one per core this process may run on, each
     with at least ``least`` lanes (the kernels' ``VECTOR_LANES``: their vector loops take
     that many lanes at a time, fewer run one by one; ``bench_kernel`` measures both)."""
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return max(1, min(cores or 1, lanes // least))
+    return max(1, min(processors(), lanes // least))
 
 
 def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps_per_period,

@@ -246,7 +246,7 @@ def _follows(idx, y, v, y_orbit, v_orbit, p, span, monodromy, shot_y, shot_v, dt
 def _newton_from(group, y, v, p, span, reach, method, check, fl, it, mult, dt, p_a, omega,
                  limit, drive, tol, length, periods_run):
     """_steady._newton_from: Newton from (y, v) on the lanes ``group``, the approach
-    check if ``check``, and the accepted orbits written to their rows."""
+    check if ``check``, and the accepted orbits written to their rows; which were."""
     ok, yn, vn, mu, monodromy, shot_y, shot_v = _newton(group, y, v, p, span, reach, dt, p_a,
                                                         omega, drive, tol, length, periods_run)
     if check:
@@ -256,6 +256,7 @@ def _newton_from(group, y, v, p, span, reach, method, check, fl, it, mult, dt, p
                            p_a, omega, limit, drive, tol, length, periods_run)
         ok[chosen[~follows]] = False
     _accept(fl, it, mult, group[ok], yn[ok], vn[ok], p, mu[ok], method)
+    return ok
 
 
 @_inline
@@ -364,10 +365,9 @@ def _march_lanes(rest, y, v, guess, cap, failed_at, use_newton, fl, it, mult, dt
         if not group.size:
             continue
         if use_newton:  # polish: the marched state is within about tol of the orbit
-            ok, yn, vn, mu, _, _, _ = _newton(group, marched_y, marched_v, p, span[chosen],
-                                              _REACH_POLISH, dt, p_a, omega, drive, tol, length,
-                                              periods_run)
-            _accept(fl, it, mult, group[ok], yn[ok], vn[ok], p, mu[ok], _M_MARCH_NEWTON)
+            ok = _newton_from(group, marched_y, marched_v, p, span[chosen], _REACH_POLISH,
+                              _M_MARCH_NEWTON, False, fl, it, mult, dt, p_a, omega, limit,
+                              drive, tol, length, periods_run)
             group, marched_y, marched_v = group[~ok], marched_y[~ok], marched_v[~ok]
         _accept(fl, it, mult, group, marched_y, marched_v, p, no_multipliers, _M_MARCH)
 

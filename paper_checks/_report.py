@@ -7,8 +7,7 @@ import json
 import time
 from pathlib import Path
 
-from common import write_json
-from numerics._atlas import default_workers
+from common import processors, write_json
 from numerics._compare_table import format_comparison
 from numerics.cli._info import format_info
 from perturb import text_report
@@ -102,7 +101,7 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
     """
     start = time.perf_counter() if started is None else started
     scene = PaperScene(quick=quick, out=out)
-    with worker_pool(default_workers() if jobs is None else jobs) as pool:
+    with worker_pool(processors() if jobs is None else jobs) as pool:
         if pool is not None:
             scene.start(pool)
         claims = run_claims(scene)

@@ -21,6 +21,7 @@ import time
 
 import numpy as np
 
+from common import processors
 from numerics import _atlas, atlas, attractors
 
 from ._timing import header, median_time, row
@@ -52,7 +53,7 @@ def main() -> None:
     serial = median_time(cell_by_cell, REPEATS)
     batched = median_time(lambda: run(workers=1), REPEATS)
     pooled = median_time(run, REPEATS)
-    workers = _atlas.default_workers()
+    workers = processors()
     header(f"Atlas {GRID[0]} x {GRID[1]} cells, 98 initial states, {BAND[0]:g}-{BAND[1]:g} Hz, "
            f"{AMPLITUDES[0]:g}-{AMPLITUDES[1]:g} Q (medians of {REPEATS})")
     row("attractors() cell by cell [s]", serial, unit="s")

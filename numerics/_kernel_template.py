@@ -125,9 +125,21 @@ def padded_width(lanes):
 def padded(a, width):
     """A copy of the lanes ``a``, padded with copies of its first lane to ``width``."""
     out = np.empty(width)
-    out[:a.shape[0]] = a
-    out[a.shape[0]:] = a[0] if a.shape[0] else 0.0
+    for lane in range(width):  # a loop: see ``unpad``
+        out[lane] = a[lane] if lane < a.shape[0] else a[0]
     return out
+
+
+@numba.njit(cache=True)
+def unpad(a, padded_a):
+    """Copy the first lanes of ``padded_a`` back into ``a``.
+
+    The kernels copy arrays in loops: numba compiles an assignment of one array to a
+    slice of another (``a[:] = b``) for 2-2.5 s, its broadcasting machinery (measured
+    2026-11-23, a fresh process); the eager kernels compiled in 5.1 s with the loops
+    against 8.1 s with five such assignments."""
+    for lane in range(a.shape[0]):
+        a[lane] = padded_a[lane]
 
 
 #: record_periods runs this many steps of every lane into a buffer, then reads each
@@ -165,8 +177,9 @@ def record_periods(
     for period in range(periods):
         for start in range(0, steps, RECORD_BLOCK):
             count = min(RECORD_BLOCK, steps - start)
-            block_y[0, :] = ys
-            block_v[0, :] = vs
+            for lane in range(width):
+                block_y[0, lane] = ys[lane]
+                block_v[0, lane] = vs[lane]
             for j in range(count):
                 c0, ch, c1 = drive_at_step(drive, start + j)
                 for lane in range(width):
@@ -179,8 +192,8 @@ def record_periods(
                 read_steps(block_y, block_v, lane, count, period, start, steps, dts[lane],
                            ymin, ymax, ext_value, ext_phase, ext_kind, ext_count, history_y,
                            history_v)
-        y[:] = ys[:lanes]
-        v[:] = vs[:lanes]
+        unpad(y, ys)
+        unpad(v, vs)
         mark_failed(y, v, failed_period, first_period + period, limit)
 
 
@@ -222,30 +235,37 @@ def acceleration_batch(y, v, force):
 
 
 @numba.njit(cache=True, inline="always")
-def tangent(y, v, dy, dv, force):
-    """The state derivative (v, a) and its directional derivative along (dy, dv)."""
+def stage_tangents(y, v, force, dy, dv, ey, ev):
+    """The acceleration at one RK4 stage and its directional derivatives along (dy, dv)
+    and (ey, ev), from one evaluation of its partials."""
     a = acceleration(y, v, force)  # noqa: F821
     a_y, a_v, _ = acceleration_partials(y, v, force)  # noqa: F821
-    return a, a_y * dy + a_v * dv
+    return a, a_y * dy + a_v * dv, a_y * ey + a_v * ev
 
 
 @numba.njit(cache=True, inline="always")
-def rk4_step_tangent(y, v, dy, dv, dt, force_start, force_mid, force_end):
-    """One RK4 step and its derivative along (dy, dv): the derivative of the
-    discrete step itself, so that the monodromy matrix is exact for the map
-    that the simulator iterates."""
-    a1, da1 = tangent(y, v, dy, dv, force_start)
-    v2, dv2 = v + 0.5 * dt * a1, dv + 0.5 * dt * da1
-    a2, da2 = tangent(y + 0.5 * dt * v, v2, dy + 0.5 * dt * dv, dv2, force_mid)
-    v3, dv3 = v + 0.5 * dt * a2, dv + 0.5 * dt * da2
-    a3, da3 = tangent(y + 0.5 * dt * v2, v3, dy + 0.5 * dt * dv2, dv3, force_mid)
-    v4, dv4 = v + dt * a3, dv + dt * da3
-    a4, da4 = tangent(y + dt * v3, v4, dy + dt * dv3, dv4, force_end)
+def rk4_step_tangents(y, v, dy, dv, ey, ev, dt, force_start, force_mid, force_end):
+    """One RK4 step and its derivatives along (dy, dv) and (ey, ev): the derivative of
+    the discrete step itself, so that the monodromy matrix is exact for the map that the
+    simulator iterates. The stages' partials serve both directions (a caller that needs
+    one passes zeros for the other; the compiler drops its arithmetic)."""
+    a1, da1, ea1 = stage_tangents(y, v, force_start, dy, dv, ey, ev)
+    v2, dv2, ev2 = v + 0.5 * dt * a1, dv + 0.5 * dt * da1, ev + 0.5 * dt * ea1
+    a2, da2, ea2 = stage_tangents(y + 0.5 * dt * v, v2, force_mid,
+                                  dy + 0.5 * dt * dv, dv2, ey + 0.5 * dt * ev, ev2)
+    v3, dv3, ev3 = v + 0.5 * dt * a2, dv + 0.5 * dt * da2, ev + 0.5 * dt * ea2
+    a3, da3, ea3 = stage_tangents(y + 0.5 * dt * v2, v3, force_mid,
+                                  dy + 0.5 * dt * dv2, dv3, ey + 0.5 * dt * ev2, ev3)
+    v4, dv4, ev4 = v + dt * a3, dv + dt * da3, ev + dt * ea3
+    a4, da4, ea4 = stage_tangents(y + dt * v3, v4, force_end,
+                                  dy + dt * dv3, dv4, ey + dt * ev3, ev4)
     y_next = y + dt / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
     v_next = v + dt / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
     dy_next = dy + dt / 6.0 * (dv + 2.0 * dv2 + 2.0 * dv3 + dv4)
     dv_next = dv + dt / 6.0 * (da1 + 2.0 * da2 + 2.0 * da3 + da4)
-    return y_next, v_next, dy_next, dv_next
+    ey_next = ey + dt / 6.0 * (ev + 2.0 * ev2 + 2.0 * ev3 + ev4)
+    ev_next = ev + dt / 6.0 * (ea1 + 2.0 * ea2 + 2.0 * ea3 + ea4)
+    return y_next, v_next, dy_next, dv_next, ey_next, ev_next
 
 
 @numba.njit(cache=True, inline="always")
@@ -261,7 +281,7 @@ def rk4_step_columns(y, v, dt, p_a, c0, ch, c1, dy, dv, dt_seed, p_a_seed):
     place): the derivative of the discrete step by the start state, and, for a column
     with ``dt_seed`` or ``p_a_seed`` 1, by dt or by P_a (the drive is P_a (c0, ch, c1)
     at the step's stages). The stages' partials are computed once for all columns.
-    With both seeds 0 a column's arithmetic is that of ``rk4_step_tangent``, term for
+    With both seeds 0 a column's arithmetic is that of ``rk4_step_tangents``, term for
     term: the same numbers, to the last bit."""
     a1, y1_y, y1_v, y1_f = stage_partials(y, v, p_a * c0)
     y2, v2 = y + 0.5 * dt * v, v + 0.5 * dt * a1
@@ -311,15 +331,11 @@ def shoot_periods(y, v, dt, p_a, drive, periods, monodromy):
                 pa = pas[lane]
                 yy, vv = ys[lane], vs[lane]
                 f0, fh, f1 = pa * c0, pa * ch, pa * c1
-                y1, v1, m[0, lane], m[1, lane] = rk4_step_tangent(
-                    yy, vv, m[0, lane], m[1, lane], dts[lane], f0, fh, f1
-                )
-                _, _, m[2, lane], m[3, lane] = rk4_step_tangent(
-                    yy, vv, m[2, lane], m[3, lane], dts[lane], f0, fh, f1
-                )
-                ys[lane], vs[lane] = y1, v1
-    y[:] = ys[:lanes]
-    v[:] = vs[:lanes]
+                ys[lane], vs[lane], m[0, lane], m[1, lane], m[2, lane], m[3, lane] = (
+                    rk4_step_tangents(yy, vv, m[0, lane], m[1, lane], m[2, lane], m[3, lane],
+                                      dts[lane], f0, fh, f1))
+    unpad(y, ys)
+    unpad(v, vs)
     for lane in range(lanes):
         monodromy[lane, 0, 0] = m[0, lane]
         monodromy[lane, 1, 0] = m[1, lane]
@@ -349,15 +365,16 @@ def shoot_jacobian(y, v, dt, p_a, drive, periods, by_force, jacobian):
                 c0, ch, c1 = drive_at_step(drive, k)
                 yy, vv = rk4_step_columns(yy, vv, h, pa, c0, ch, c1, dy, dv, dt_seed, p_a_seed)
         y[lane], v[lane] = yy, vv
-        jacobian[lane, 0, :] = dy
-        jacobian[lane, 1, :] = dv
+        for col in range(dy.shape[0]):
+            jacobian[lane, 0, col] = dy[col]
+            jacobian[lane, 1, col] = dv[col]
 
 
 @numba.njit(cache=True)
 def lyapunov_periods(y, v, dy, dv, dt, p_a, drive, v_scale, log_growth, periods_per_block,
                      failed_period, first, limit):
     """Benettin's method: advance every lane and one tangent vector (dy, dv) of it by
-    whole periods, the tangent by the derivative of the RK4 step (``rk4_step_tangent``).
+    whole periods, the tangent by the derivative of the RK4 step (``rk4_step_tangents``).
 
     After each period the tangent is scaled back to unit length in the norm
     sqrt(dy^2 + (dv / v_scale)^2), and the log of its growth over the period is added
@@ -373,9 +390,9 @@ def lyapunov_periods(y, v, dy, dv, dt, p_a, drive, v_scale, log_growth, periods_
             c0, ch, c1 = drive_at_step(drive, k)
             for lane in range(lanes):
                 pa = p_a[lane]
-                y[lane], v[lane], dy[lane], dv[lane] = rk4_step_tangent(
-                    y[lane], v[lane], dy[lane], dv[lane], dt[lane], pa * c0, pa * ch, pa * c1
-                )
+                y[lane], v[lane], dy[lane], dv[lane], _, _ = rk4_step_tangents(
+                    y[lane], v[lane], dy[lane], dv[lane], 0.0, 0.0, dt[lane], pa * c0, pa * ch,
+                    pa * c1)
         block = period // periods_per_block
         for lane in range(lanes):
             norm = math.sqrt(dy[lane] * dy[lane] + (dv[lane] / v_scale) ** 2)
@@ -399,8 +416,9 @@ def strobe_periods(y, v, dt, p_a, drive, periods, strobe_y, strobe_v, span, fail
     low = np.empty(lanes)
     high = np.empty(lanes)
     for period in range(periods):
-        low[:] = y
-        high[:] = y
+        for lane in range(lanes):
+            low[lane] = y[lane]
+            high[lane] = y[lane]
         for k in range(steps):
             advance_step(y, v, dt, p_a, drive, k)
             for lane in range(lanes):

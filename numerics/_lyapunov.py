@@ -9,7 +9,7 @@ perturbation of the state grows,
 
 w_k the tangent vector after k drive periods T = 1 / f_e (Benettin et al., 1980).
 The tangent is the derivative of the very RK4 map that the simulator iterates
-(``rk4_step_tangent``, through loss of contact: the acceleration of Eq. 2.1-2.4 is
+(``rk4_step_tangents``, through loss of contact: the acceleration of Eq. 2.1-2.4 is
 continuous across y = 0, so the map is piecewise smooth and needs no saltation), so
 on a periodic orbit of period p lambda is ln|mu_max| / (p T), mu_max the largest
 Floquet multiplier of the monodromy matrix that ``steady_states`` computes; in the

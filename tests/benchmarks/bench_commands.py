@@ -56,10 +56,10 @@ _WHICH_MODULES = (
 )
 
 
-def _old_tree(folder: Path) -> Path | None:
-    """The tree of BASELINE_COMMIT in ``folder``, or None without git or the commit."""
+def _old_tree(folder: Path, commit: str = BASELINE_COMMIT) -> Path | None:
+    """The tree of ``commit`` in ``folder``, or None without git or the commit."""
     try:
-        archive = subprocess.run(["git", "archive", BASELINE_COMMIT], cwd=ROOT, check=True,
+        archive = subprocess.run(["git", "archive", commit], cwd=ROOT, check=True,
                                  capture_output=True).stdout
     except (OSError, subprocess.CalledProcessError):
         return None

@@ -11,6 +11,7 @@ import os
 import subprocess
 import sys
 import tempfile
+from pathlib import Path
 
 import numpy as np
 
@@ -19,6 +20,7 @@ from perturb import PAPER, ContactModel, eq26_numbers
 
 from ._textbook import PARAMETERS, textbook_rk4
 from ._timing import header, median_time, row
+from .bench_commands import ROOT, _old_tree
 
 LANES, STEPS, PERIODS = 1000, 128, 40
 
@@ -71,16 +73,51 @@ _COMPILE_SNIPPET = (
 )
 
 
-def compile_times() -> list[tuple[float, float]]:
-    """(import, first simulate()) in a fresh process with an empty cache, then again."""
+#: The route before the kernels copied their arrays in loops (``unpad``) and stepped both
+#: columns of the monodromy matrix from one evaluation of the partials
+#: (``rk4_step_tangents``): the baseline of the compile time and of ``shoot_periods``.
+ROUTE_BEFORE = "035305f"
+ROUTE_REPEATS = 3
+#: Run in a route's tree, its kernels cached: ns per lane-step of shoot_periods on one
+#: lane and on 64.
+_SHOOT_SNIPPET = ("from tests.benchmarks.bench_kernel import one_lane_against_many;"
+                  "print(*one_lane_against_many())")
+
+
+def compile_times(tree: Path = ROOT) -> list[tuple[float, float]]:
+    """(import, first simulate()) in a fresh process with an empty cache, then again,
+    with the code of ``tree``."""
     with tempfile.TemporaryDirectory() as cache:
-        env = os.environ | {"CONTACT_RESONANCES_CACHE": cache}
-        runs = [
-            subprocess.run([sys.executable, "-c", _COMPILE_SNIPPET], env=env,
-                           capture_output=True, text=True, check=True).stdout.split()
-            for _ in range(2)
-        ]
+        env = os.environ | {"CONTACT_RESONANCES_CACHE": cache, "PYTHONPATH": str(tree)}
+        runs = [_run(tree, env, _COMPILE_SNIPPET) for _ in range(2)]
     return [tuple(float(x) for x in r) for r in runs]
+
+
+def _run(tree: Path, env: dict, snippet: str) -> list[str]:
+    return subprocess.run([sys.executable, "-c", snippet], env=env, cwd=tree,
+                          capture_output=True, text=True, check=True).stdout.split()
+
+
+def against_route_before() -> dict[str, tuple[float, float]] | None:
+    """{figure: (this route, ROUTE_BEFORE's)}, medians of runs in turn: the first
+    simulate() with an empty cache [s], and shoot_periods' ns per lane-step on one lane
+    and on 64 (None without git or that commit)."""
+    names = ("first simulate(), empty cache [s]", "shoot_periods, one lane [ns/lane-step]",
+             "shoot_periods, 64 lanes [ns/lane-step]")
+    with tempfile.TemporaryDirectory() as folder:
+        before = _old_tree(Path(folder) / "tree", ROUTE_BEFORE)
+        if before is None:
+            return None
+        runs: dict[Path, list[list[float]]] = {ROOT: [], before: []}
+        for _ in range(ROUTE_REPEATS):
+            for tree, spent in runs.items():
+                with tempfile.TemporaryDirectory() as cache:
+                    env = os.environ | {"CONTACT_RESONANCES_CACHE": cache,
+                                        "PYTHONPATH": str(tree)}
+                    compile_s = float(_run(tree, env, _COMPILE_SNIPPET)[1])
+                    spent.append([compile_s, *map(float, _run(tree, env, _SHOOT_SNIPPET))])
+    medians = {tree: np.median(np.array(spent), axis=0) for tree, spent in runs.items()}
+    return {name: (medians[ROOT][i], medians[before][i]) for i, name in enumerate(names)}
 
 
 def one_lane_against_many(lanes: int = 64, steps: int = 1024) -> tuple[float, float]:
@@ -157,7 +194,13 @@ def main() -> None:
     row("first simulate(), kernels cached on disk [s]", warm, cold, "s", higher_is_better=False)
     row("import numerics (numba, sympy) [s]", import_warm, import_cold, "s",
         higher_is_better=False)
-
+    against = against_route_before()
+    if against is not None:
+        header(f"this route against {ROUTE_BEFORE} (array copies as slice assignments, "
+               f"one tangent step a column), median of {ROUTE_REPEATS} in turn")
+        for name, (now, before) in against.items():
+            row(name, now, before, "s" if name.endswith("[s]") else "ns",
+                higher_is_better=False)
 
 if __name__ == "__main__":
     main()

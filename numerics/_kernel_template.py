@@ -135,9 +135,9 @@ def unpad(a, padded_a):
     """Copy the first lanes of ``padded_a`` back into ``a``.
 
     The kernels copy arrays in loops: numba compiles an assignment of one array to a
-    slice of another (``a[:] = b``) for 2-2.5 s, its broadcasting machinery (measured
-    2026-11-23, a fresh process); the eager kernels compiled in 5.1 s with the loops
-    against 8.1 s with five such assignments."""
+    slice of another (``a[:] = b``) through its broadcasting machinery, for seconds
+    (bench_kernel: the first simulate() with an empty cache against the route that
+    had five such assignments)."""
     for lane in range(a.shape[0]):
         a[lane] = padded_a[lane]
 

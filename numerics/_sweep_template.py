@@ -165,7 +165,7 @@ def _newton(idx, y_start, v_start, p, span, reach, dt, p_a, omega, drive, tol, l
             periods_run[idx[i]] += p
             if not iteration:
                 shot_y[i], shot_v[i] = yp[j], vp[j]
-            monodromy[i] = m[j]
+            _copy_matrix(monodromy[i], m[j])
             # (M - I) dx = -(Phi(x) - x), by Cramer's rule (_steady._solve_2x2).
             a00, a01 = m[j, 0, 0] - 1.0, m[j, 0, 1]
             a10, a11 = m[j, 1, 0], m[j, 1, 1] - 1.0
@@ -234,7 +234,8 @@ def _follows(idx, y, v, y_orbit, v_orbit, p, span, monodromy, shot_y, shot_v, dt
     ym_rest, vm_rest = ym[rest], vm[rest]
     _advance_verify(idx[rest], ym_rest, vm_rest, full - marched, dt, p_a, limit, drive,
                     periods_run)
-    ym[rest], vm[rest] = ym_rest, vm_rest
+    _scatter(ym, rest, ym_rest)
+    _scatter(vm, rest, vm_rest)
     out = np.zeros(n, dtype=np.bool_)
     for i in range(n):
         after = _distance(ym[i] - y_orbit[i], vm[i] - v_orbit[i], omega[idx[i]], scale[i])
@@ -353,7 +354,10 @@ def _march_lanes(rest, y, v, guess, cap, failed_at, use_newton, fl, it, mult, dt
         period_on, ym_on, vm_on, span_on = _march(rest[on], ym[on], vm[on], cap[on], failed_at,
                                                   np.int64(_CHUNK), dt, p_a, omega, limit,
                                                   drive, tol, length, periods_run)
-        period[on], ym[on], vm[on], span[on] = period_on, ym_on, vm_on, span_on
+        _scatter(period, on, period_on)
+        _scatter(ym, on, ym_on)
+        _scatter(vm, on, vm_on)
+        _scatter(span, on, span_on)
     still_open = it[rest, I_STATUS] != _SUCCESS
     for i in range(rest.size):
         if still_open[i]:
@@ -575,6 +579,9 @@ def _steady_states(steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
     steps, the lanes that failed, did not settle, or settled with p > 1 or too coarsely,
     into the fine tables, and keeps its result where it is at least as good."""
     n = f_e.shape[0]
+    # Booleans of no literal type: with True/False, numba would compile _solve once for
+    # each combination of literals it meets (each compile some 7-25 s).
+    _YES, _NO = np.bool_(True), np.bool_(False)
     fl, it, mult, maxima, minima = _point_tables(n)
     fine_fl, fine_it, fine_mult, fine_maxima, fine_minima = _point_tables(n)
     lanes = np.arange(n)
@@ -593,17 +600,13 @@ def _steady_states(steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
             if coarse.size:
                 _solve_by_steps(coarse, level_steps, f_e, p_a, fl[:, F_Y].copy(),
                                 fl[:, F_V].copy(), it[:, I_PERIOD].copy(),
-                                fl[:, F_YMAX] - fl[:, F_YMIN], cap, limit, True, use_newton,
+                                fl[:, F_YMAX] - fl[:, F_YMIN], cap, limit, _YES, use_newton,
                                 tol, app_rtol, length, tables, table_steps, table_offset,
-                                fine_fl, fine_it, fine_mult, fine_maxima, fine_minima, True)
-                app = fl[coarse, F_YMAX] - fl[coarse, F_YMIN]
-                moved = np.abs((fine_fl[coarse, F_YMAX] - fine_fl[coarse, F_YMIN]) - app)
-                estimate = fl[coarse, F_ERROR]
-                slack = np.where(np.isfinite(estimate), _SHARPEN_SLACK * estimate,
-                                 _UNESTIMATED_SLACK)
-                found = (((fine_it[coarse, I_STATUS] == _SUCCESS)
-                          | (fine_it[coarse, I_STATUS] == _UNDER_RESOLVED))
-                         & (moved <= slack * app))
+                                fine_fl, fine_it, fine_mult, fine_maxima, fine_minima, _YES)
+                found = np.zeros(coarse.size, dtype=np.bool_)
+                for i in range(coarse.size):
+                    found[i] = _sharpened(fl[coarse[i]], fine_fl[coarse[i]],
+                                          fine_it[coarse[i], I_STATUS])
                 _merge(coarse[found], fl, it, mult, maxima, minima, fine_fl, fine_it,
                        fine_mult, fine_maxima, fine_minima)
                 for lane in coarse[~found]:
@@ -617,11 +620,44 @@ def _steady_states(steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
                         continuation, use_newton, tol, app_rtol, length, tables, table_steps,
                         table_offset, fine_fl if fine else fl, fine_it if fine else it,
                         fine_mult if fine else mult, fine_maxima if fine else maxima,
-                        fine_minima if fine else minima, False)
+                        fine_minima if fine else minima, _NO)
         if fine:
             _merge(redo, fl, it, mult, maxima, minima, fine_fl, fine_it, fine_mult,
                    fine_maxima, fine_minima)
     return fl, it, mult, maxima, minima
+
+
+@_inline
+def _copy_matrix(target, source):
+    """target[:, :] = source for 2 x 2 matrices (see ``_copy_into``)."""
+    target[0, 0], target[0, 1] = source[0, 0], source[0, 1]
+    target[1, 0], target[1, 1] = source[1, 0], source[1, 1]
+
+
+@_jit
+def _copy_into(target, source):
+    """target[:] = source, in a loop: numba compiles an array assigned to an array
+    through its broadcasting machinery, for seconds."""
+    for k in range(source.shape[0]):
+        target[k] = source[k]
+
+
+@_jit
+def _scatter(target, index, values):
+    """target[index] = values, in a loop (see ``_copy_into``)."""
+    for k in range(index.shape[0]):
+        target[index[k]] = values[k]
+
+
+@_inline
+def _sharpened(coarse, fine, fine_status):
+    """_steady._sharpen's test of one lane (its rows of floats at the coarse and the fine
+    step): the fine pass settled, or under-resolved, and moved App by at most its slack."""
+    app = coarse[F_YMAX] - coarse[F_YMIN]
+    moved = abs((fine[F_YMAX] - fine[F_YMIN]) - app)
+    estimate = coarse[F_ERROR]
+    slack = _SHARPEN_SLACK * estimate if math.isfinite(estimate) else _UNESTIMATED_SLACK
+    return (fine_status == _SUCCESS or fine_status == _UNDER_RESOLVED) and moved <= slack * app
 
 
 @_inline
@@ -632,7 +668,9 @@ def _merge(lanes, fl, it, mult, maxima, minima, fine_fl, fine_it, fine_mult, fin
         cost = it[lane, I_RUN] + fine_it[lane, I_RUN]
         if (_RANK[fine_it[lane, I_STATUS] + _STATUS_OFFSET]
                 <= _RANK[it[lane, I_STATUS] + _STATUS_OFFSET]):
-            fl[lane], it[lane], mult[lane] = fine_fl[lane], fine_it[lane], fine_mult[lane]
+            _copy_into(fl[lane], fine_fl[lane])
+            _copy_into(it[lane], fine_it[lane])
+            _copy_into(mult[lane], fine_mult[lane])
             maxima[lane], minima[lane] = fine_maxima[lane], fine_minima[lane]
         it[lane, I_RUN] = cost
 
@@ -666,7 +704,10 @@ def sweep_lanes(freq, p_a, steps, cap, limit, y, v, app, period, continued, use_
             steps[:, j].copy(), freq[:, j].copy(), p_a, y, v, period, app, cap[:, j].copy(),
             limit[:, j].copy(), continued, use_newton, tol, app_rtol, refinements, max_steps,
             length, tables, table_steps, table_offset)
-        fl[:, j], it[:, j], mult[:, j] = f_fl, f_it, f_mult
+        for lane in range(lanes):
+            _copy_into(fl[lane, j], f_fl[lane])
+            _copy_into(it[lane, j], f_it[lane])
+            _copy_into(mult[lane, j], f_mult[lane])
         for lane in range(lanes):
             found_max[lane * points + j], found_min[lane * points + j] = maxima[lane], minima[lane]
             counts[lane, j, 0], counts[lane, j, 1] = maxima[lane].size, minima[lane].size

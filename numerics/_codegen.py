@@ -142,9 +142,9 @@ _DRIVERS_BUILT: dict[tuple, Path] = {}
 
 def sweep_driver_built(model: ContactModel) -> bool:
     """Whether the compiled sweep driver of ``model`` is in the cache (numba's index file
-    of ``sweep_lanes`` beside the module): compiling it takes some 25-40 s once. A
-    positive answer is kept for the process (the look-up hashes the sources and lists a
-    folder of thousands of files: some 10 ms)."""
+    of ``sweep_lanes`` beside the module): compiling it takes tens of seconds, once
+    (bench_sweep's cold start row). A positive answer is kept for the process (the
+    look-up hashes the sources and lists a folder of thousands of files: some 10 ms)."""
     memo = (cache_dir(), model.parameters, model.effects)
     if memo in _DRIVERS_BUILT and _DRIVERS_BUILT[memo].exists():
         return True

@@ -6,8 +6,9 @@ through their frequency lists together. The walk runs in one compiled call per
 sweep (``_sweep_template.sweep_lanes``, which does per point what ``steady_states``
 does) or point by point in Python, one ``steady_states`` call per frequency
 (``engine="python"``, the reference); tests/test_sweep_compiled.py holds them
-equal. The compiled driver takes some 25-40 s to build once per model, so the
-default, "auto", takes it only where it is built already.
+equal. The compiled driver takes tens of seconds to build once per model
+(bench_sweep's cold start row), so the default, "auto", takes it only where it is
+built already.
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ __all__ = ["SweepRun", "Sweep", "sweep", "DIRECTIONS"]
 DIRECTIONS = ("up", "down", "both")
 #: How the points are walked: one compiled call per sweep, or steady_states per point;
 #: "auto" takes the compiled call where its driver is built for the model (building it
-#: costs some 25-40 s once per model: a saving only after dozens of sweeps).
+#: costs tens of seconds once per model: a saving only after dozens of sweeps).
 ENGINES = ("auto", "compiled", "python")
 #: A step in App by more than this factor between neighbouring points is a jump.
 JUMP_RATIO = 1.3
@@ -125,7 +126,7 @@ def sweep(
         The whole walk in one compiled call (with ``keep_orbits`` the Python route is
         taken), or point by point in Python (the reference); both give the same points.
         "auto" (the default) takes the compiled call where its driver is built for the
-        model already (compiling it takes some 25-40 s once), Python otherwise.
+        model already (compiling it takes tens of seconds, once), Python otherwise.
 
     Examples
     --------

@@ -292,9 +292,10 @@ def _against_full(scene, study: StudyRun, sensitive: set[float]) -> tuple[float,
     windows = [(r, first) for r, run in enumerate(runs)
                for first in _window_starts(run, sensitive)]
     for (r, first), points in zip(windows, _full_through(scene, study, windows)):
-        change = _window_change(scene, curves[r], points, first)
-        if not change <= largest:
-            largest, worst_at = change, runs[r].frequency_hz[first]
+        for k in range(points.status.size):  # point by point, to say where
+            change = _window_change(scene, curves[r], points.take([k]), first + k)
+            if not change <= largest:
+                largest, worst_at = change, float(runs[r].frequency_hz[first + k])
     check = (f"the full model at every point from the chosen orbit there, and through "
              f"{len(windows)} windows of {_window_length(runs[0])} points around the peaks, "
              f"jumps and sensitive points of the sweep"

@@ -30,9 +30,9 @@ $(BENCH_STAMP): $(STAMP)
 bench: $(BENCH_STAMP)
 	$(PY) -m tests.benchmarks
 
-# Opt in to the compiled routes for the paper's model: the sweep driver (25-40 s to
-# build) and the order-6 response kernels (some 11 s), which engine="auto" takes once
-# they are in the cache.
+# Opt in to the compiled routes for the paper's model: the sweep driver and the order-6
+# response kernels (tens of seconds to build: bench_sweep's and bench_perturb's cold
+# rows), which engine="auto" takes once they are in the cache.
 compiled: $(STAMP)
 	$(PY) -c "from numerics import sweep; sweep([1000.0], 0.1, engine='compiled')"
 	$(PY) -c "from perturb import frequency_response as r; r([1000.0], 0.1, 6, engine='compiled')"

@@ -2,12 +2,18 @@
 
 ``python -m paper_checks [--quick] [--out DIR]`` writes DIR/report.md and
 DIR/report.json (``make paper``). The paper's figures are scenes,
-``paper_checks/scenes/*.toml``, run by ``numerics.scenes.run_scene``; importing this
-package registers the scene study ``work_precision``.
+``paper_checks/scenes/*.toml``, run by ``numerics.scenes.run_scene``; importing
+``paper_checks._work_precision`` (as ``PaperScene``'s module does) registers the scene
+study ``work_precision``.
 """
 
-from ._claims import Claim
-from ._registry import CHECKS, run_claims
-from ._scene import PaperScene
+from common import lazy_names
+
+# Imported at first use (PEP 562), so that `python -m paper_checks` imports them after
+# it has turned the garbage collector off (paper_checks/__main__.py).
+_LAZY = {"Claim": "._claims", "CHECKS": "._registry", "run_claims": "._registry",
+         "PaperScene": "._scene"}
 
 __all__ = ["CHECKS", "Claim", "PaperScene", "run_claims"]
+
+__getattr__, __dir__ = lazy_names(__name__, _LAZY, globals())

@@ -104,6 +104,9 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
     with worker_pool(processors() if jobs is None else jobs) as pool:
         if pool is not None:
             scene.start(pool)
+        # Printed while the workers run: 0.15 s of sympy's printing (its first use
+        # here) that would otherwise follow the last of them.
+        series = text_report(scene.series)
         claims = run_claims(scene)
         work = scene.work_precision
         figures = draw_figures(scene)
@@ -122,7 +125,7 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
               "of the Eq. 2.6 model and of the full model (`python -m numerics compare`).", "",
               "```", format_comparison(scene.comparison), "```", ""]
     lines += ["## The perturbation series to ε⁴ (Eq. 2.7–2.10, A.1, A.2)", "", "```",
-              text_report(scene.series), "```", ""]
+              series, "```", ""]
     lines += _work_section(work)
     lines += ["## Time of each computation", "", "| computation | settings | time [s] |",
               "|---|---|---|"]

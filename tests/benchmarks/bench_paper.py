@@ -21,7 +21,9 @@ gains by drawing in worker processes; the whole command does. Last, what each ch
 to the drawing saves on the Fig. 2 figure, in this process: the figure as drawn, and
 with one change undone (constrained layout instead of ``fixed_layout``, titles placed
 by matplotlib, every spine in the layout, the minor ticks of the decades off view,
-``savefig``) and all undone, the variants in turn.
+a mathtext parser per renderer, ``savefig``) and all undone, the variants in turn. And
+the command's start before it forks the workers (imports, kernels loaded) with the
+garbage collector on, against off as the command runs it.
 """
 
 from __future__ import annotations
@@ -44,6 +46,7 @@ GOALS = {"cold": 12.0, "warm": 5.0}  # issue 12 [s]
 REPEATS = 3
 DRAW_ROUNDS, DRAW_REPEATS = 2, 3  # drawing runs per route, in turn; draws of each figure
 CHANGE_REPEATS = 7  # of each variant of the Fig. 2 figure, in turn
+GC_REPEATS = 8  # of the command's start, garbage collector on and off, in turn
 #: The new route with its scenes run one after another in one process (`--jobs 1`).
 SERIAL = "new, --jobs 1"
 #: The old route's wall times [s] as this benchmark measured them before the change
@@ -176,6 +179,19 @@ def _every_minor_tick():
 
 
 @contextmanager
+def _parser_per_renderer():
+    from matplotlib.backends.backend_agg import RendererAgg
+
+    from numerics.plots import _figure
+
+    # As matplotlib does: a renderer of its own, and so a parser, to measure each axis.
+    with mock.patch.object(_figure, "_share_mathtext", lambda renderer: None), \
+            mock.patch.object(_figure, "_measuring_renderer",
+                              lambda: RendererAgg(1, 1, _figure.DPI)):
+        yield
+
+
+@contextmanager
 def _savefig():
     from numerics.plots import _figure
 
@@ -189,6 +205,7 @@ UNDONE = {"constrained layout (no fixed_layout)": (_constrained_layout,),
           "titles placed by matplotlib": (_titles_by_matplotlib,),
           "every spine in the layout": (_every_spine_in_layout,),
           "minor ticks of the decades off view": (_every_minor_tick,),
+          "a mathtext parser per renderer (labels parsed again)": (_parser_per_renderer,),
           "savefig (a draw to lay out, then one to render)": (_savefig,)}
 UNDONE["all undone"] = tuple(change for changes in UNDONE.values() for change in changes)
 
@@ -214,6 +231,36 @@ def _each_change(folder: Path) -> dict[str, float]:
     return {name: statistics.median(times) for name, times in seconds.items()}
 
 
+#: Run in the new tree: `python -m paper_checks`'s work before it forks the workers (its
+#: imports, the kernels loaded), the garbage collector on or off (argument); print the
+#: CPU seconds.
+_START_OF_COMMAND = r"""
+import gc, sys, time
+if sys.argv[1] == "off":
+    gc.disable()
+import paper_checks._report
+from numerics import compiled_kernels
+from paper_checks._scene import KERNEL_MODELS
+
+for model in KERNEL_MODELS:
+    compiled_kernels(model)
+print(time.process_time())
+"""
+
+
+def _start_without_gc(cache: Path) -> dict[str, float]:
+    """{"on"/"off": median CPU seconds of the command's start, garbage collector on/off},
+    in turn."""
+    env = os.environ | {"PYTHONPATH": str(ROOT), "CONTACT_RESONANCES_CACHE": str(cache)}
+    seconds = {"on": [], "off": []}
+    for _ in range(GC_REPEATS):
+        for state in seconds:
+            done = subprocess.run([sys.executable, "-c", _START_OF_COMMAND, state], cwd=ROOT,
+                                  env=env, check=True, capture_output=True, text=True)
+            seconds[state].append(float(done.stdout.split()[-1]))
+    return {state: statistics.median(times) for state, times in seconds.items()}
+
+
 def main() -> None:
     load = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as folder:
@@ -223,6 +270,7 @@ def main() -> None:
         whole, caches = _whole_command(trees, folder)
         drawing = _drawings(trees, caches)
         changes = _each_change(folder)
+        start = _start_without_gc(caches["new"])
     source = (f"old route ({BASELINE_COMMIT}) in this run" if old is not None
               else f"measured before, 2026-11-23 ({BASELINE_COMMIT}; no git tree here)")
     header(f"`python -m paper_checks` (make paper), new process each, median of {REPEATS}; "
@@ -258,6 +306,10 @@ def main() -> None:
     for name in UNDONE:
         row(f"as drawn vs {name}", changes["as drawn"], changes[name], "s",
             higher_is_better=False)
+    header("The command's start before the workers (imports, kernels loaded), CPU seconds, "
+           f"median of {GC_REPEATS}, in turn; baseline: the garbage collector on")
+    row("garbage collector off (as `python -m paper_checks` runs)", start["off"],
+        start["on"], "s", higher_is_better=False)
     print(f"goals (issue 12): cold <= {GOALS['cold']:g} s, warm <= {GOALS['warm']:g} s; "
           f"{os.cpu_count()} processors; load average {load:.1f} before this benchmark, "
           f"{os.getloadavg()[0]:.1f} after (worker processes gain only on processors the "

@@ -297,7 +297,9 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "fmin_hz": ("lower end of the band of f_e a branch is continued in", "Hz", ""),
     "fmax_hz": ("upper end of the band of f_e a branch is continued in", "Hz", ""),
     "ds_max": ("largest continuation step, in the scaled unknowns (y/y0, v/(omega0 y0), "
-               "f/f_n0)", "1", ""),
+               "f/f_n0), for orbits within twice the static deflection; where the branch "
+               "runs straight on a larger orbit, up to ds_max |(y, v)| / 2 in those units, "
+               "at most 20 ds_max", "1", ""),
     "max_angle": ("largest angle between the tangents of consecutive continued points",
                   "rad", ""),
     "max_points": ("most points a walk of a continued branch may take (the folds located "

@@ -8,12 +8,16 @@ of the simulator's RK4 map at N fixed steps per period (``_continuation_map``).
 - Predictor: a step ds along the unit tangent t of the branch in the scaled
   unknowns z = (y / y0, v / (omega0 y0), f / f_n0).
 - Corrector: Newton on the bordered system [R(z) = 0, t . (z - z_k) = ds], given up
-  when an update is not at most half the one before (``_continuation_map._CONTRACTION``).
-- Step control: ds grows by 1.5 after an easy step (at most 3 iterations), shrinks
-  by 2 on a failed Newton, and by the share of ``max_angle`` over the turn (by 2 at
-  least) whenever consecutive tangents differ by more than ``max_angle``, so that no
-  fold is stepped across unseen. A step below ``_STALL_DS`` hands over to a step in f
-  alone first (a corner where the branch turns back), and only then shrinks on.
+  when an update is not at most half the one before (``_continuation_map._CONTRACTION``),
+  stopped when the updates still to come add up to less than its tolerance
+  (``_continuation_map.near_enough``).
+- Step control: ds grows by 1.5 after an easy step (at most 3 iterations), up to
+  ds_max, or on a large orbit where the branch runs straight, up to ds_max times the
+  orbit's size (``largest_step``); it shrinks by 2 on a failed Newton, and by the share
+  of ``max_angle`` over the turn (by 2 at least) whenever consecutive tangents differ
+  by more than ``max_angle``, so that no fold is stepped across unseen. A step below
+  ``_STALL_DS`` hands over to a step in f alone first (a corner where the branch turns
+  back), and only then shrinks on.
 - Stability: the Floquet multipliers, eigenvalues of the monodromy matrix; an orbit
   is stable when both lie inside the unit circle. As det M < 1 (the contact's
   damping), a multiplier leaves the circle only through +1 (a fold) or -1 (period
@@ -32,6 +36,7 @@ of the simulator's RK4 map at N fixed steps per period (``_continuation_map``).
 
 from __future__ import annotations
 
+import math
 import time
 from typing import NamedTuple
 
@@ -57,7 +62,7 @@ DEFAULTS = {"steps_per_period": "auto", "ds_max": 0.02, "max_angle": 0.1, "max_p
 #: the contraction test).
 _AUTO_MIN_STEPS = 512
 #: "auto" doubles N, up to this, while a walk stops inside the band at a corner: at 0.15 Q
-#: the walk up stops near the bouncing fold (352.7 Hz) at 512 steps, and the branch passes
+#: the walk up stops near the bouncing fold (352.55 Hz) at 512 steps, and the branch passes
 #: it (the fold at 352.4 Hz, where a 1024-step sweep jumps) at 1024.
 _AUTO_MAX_STEPS = 2048
 #: How the message of a walk that stopped at a corner begins.
@@ -71,6 +76,12 @@ _DS_MIN = 1e-9  # below it the continuation gives up
 #: the walk spent some 3,600 of its 12,900 evaluations of R within 350-370 Hz on steps
 #: below 1e-5 (2026-11-23, Python walk).
 _STALL_DS = 1e-5
+#: Below _STALL_DS a step whose tangent turns back (t_new . t < 0) is a failed step: the
+#: walk has crept into a corner where the branch folds back onto itself, and walking on
+#: would retrace it. At 0.17 Q, N = 2048, such a step of 3.3e-9 turned the compiled walk
+#: back along its own last 67 points (2026-11-23, with the larger steps of
+#: ``largest_step``); every turn back at 0.15 Q (47, in the bouncing fold's zigzag) is
+#: over a step of 1.3e-4 or more.
 _GROW, _SHRINK = 1.5, 0.5
 #: A step whose tangent turns by more than max_angle is shortened by this share of
 #: max_angle over the turn (the turn grows with the step), by _SHRINK at least. At 0.17 Q,
@@ -84,6 +95,25 @@ _TURN_SHARE = 0.9
 #: 0.15 Q, N = 1024, 1e-4 took 6528 points (3298 steps below 5e-3, in the bouncing
 #: fold's zigzag), 1e-3 takes 4896 (2026-11-23, when every fold met was located and kept).
 _CORNER_DS = 1e-3
+#: Where the branch runs straight (its tangent turned by at most _STRAIGHT rad over the
+#: step), the next step may grow past ds_max in proportion to the orbit's size |(y, v)| in
+#: z over _SIZE_REFERENCE, up to _SIZE_CEILING ds_max (``largest_step``). An orbit in
+#: contact has |(y, v)| near 1 (the static deflection, y0); one twice as large bounces
+#: (loss of contact). Measured at 0.15 Q, "auto", the Python walk (2026-11-23, with
+#: ``near_enough``): on the arcs of bouncing orbits (|(y, v)| 5 to 28) the tangent turns
+#: by 0.002 rad a step of 0.02 (median; the map's corners make it jitter up to 0.02),
+#: and a step of 0.02 moves the orbit by 0.07 % of its size or less. Evaluations of R
+#: (those at N = 1024 counted twice) 33,230 -> 22,641, points 4412 -> 2500, App between
+#: the points as near the 5 Hz sweeps' states (0.153 % and 0.122 % at most, up and down,
+#: against 0.153 % and 0.123 %); at 0.1 and 0.05 Q the same worst App as before (0.21 %
+#: and 0.34 %). By size alone, steps grew towards the primary fold (0.39 % at 1330 Hz);
+#: by the angle alone, on small orbits (0.25 % at 1560 Hz); with _SIZE_REFERENCE = 1,
+#: a 5 % longer step at 0.1 Q stepped over the 1/3 superharmonic's small peak (0.71 % at
+#: 490 Hz). _STRAIGHT = 0.01 took 13 % more evaluations, App the same; _SIZE_CEILING = 40,
+#: the same walk at 0.15 Q (it matters past |(y, v)| = 40: 53 at 0.17 Q).
+_STRAIGHT = 0.03
+_SIZE_REFERENCE = 2.0
+_SIZE_CEILING = 20.0
 _EASY_ITERATIONS = 3  # Newton converging within this many iterations grows the step
 #: Brent's method locates a bifurcation to this arclength in z: f to about 1e-5 Hz on
 #: the paper's model (f_n0 = 1485 Hz), App to 1e-9 y0.
@@ -281,7 +311,9 @@ def continue_orbits(
         least 512, and walks again at twice N (up to 2048) while a walk stops inside the
         band at a corner of the map (``settings["steps_per_period"]`` says which N).
     ds_max : float
-        Largest step along the branch, in the scaled unknowns z.
+        Largest step along the branch, in the scaled unknowns z, for orbits within twice
+        the static deflection; where a larger (bouncing) orbit's branch runs straight, a
+        step may be ds_max times |(y, v)| / 2 in z, up to 20 ds_max (``largest_step``).
     max_angle : float
         Largest angle [rad] between the tangents of consecutive points.
     max_points : int
@@ -366,6 +398,19 @@ def branch_steps(steps_per_period, f_hz: float, numbers) -> int:
         return max(int(lane_steps("auto", np.array([f_hz]), numbers.fastest_rate_per_s)[0]),
                    _AUTO_MIN_STEPS)
     return check_int("steps_per_period", steps_per_period, minimum=4)
+
+
+def largest_step(z: np.ndarray, angle: float, ds_max: float) -> float:
+    """The largest next step after a point ``z`` whose step turned the tangent by
+    ``angle``: ds_max, or, where the branch runs straight (``_STRAIGHT``), ds_max times
+    the orbit's size |(y, v)| in z over ``_SIZE_REFERENCE`` (twice the static
+    deflection) where that is above 1, up to ``_SIZE_CEILING`` ds_max: a step moves a
+    large bouncing orbit by as little, relative to its size, as ds_max moves one in
+    contact."""
+    if angle > _STRAIGHT:
+        return ds_max
+    size = math.sqrt(z[0] * z[0] + z[1] * z[1]) / _SIZE_REFERENCE
+    return ds_max * min(max(1.0, size), _SIZE_CEILING)
 
 
 def count_kinds(bifurcations: list[Bifurcation]) -> str:
@@ -544,7 +589,8 @@ class _Walk:
         # The walk's numbers for the compiled steps, in _walk_template's order.
         self.settings = np.array([_DS_MIN, ds_max, max_angle, _GROW, _SHRINK, _CORNER_DS,
                                   _EASY_ITERATIONS, _STALL_DS, *shoot.newton_settings(),
-                                  self.f_lo, self.f_hi, _TURN_SHARE])
+                                  self.f_lo, self.f_hi, _TURN_SHARE, _STRAIGHT,
+                                  _SIZE_REFERENCE, _SIZE_CEILING])
 
     def end(self, status: Status, message: str) -> None:
         self.status, self.message = status, message
@@ -676,14 +722,17 @@ class _Walk:
         while ds >= least:
             point = self.shoot.correct_step(z + ds * t, t, t @ z + ds)
             t_new = None if point is None else point.tangent(t, self.orientation)
-            if point is not None and np.isfinite(t_new).all():  # no tangent: a failed step
+            # No tangent, or one turned back below the stall's ds: a failed step.
+            if (point is not None and np.isfinite(t_new).all()
+                    and not (ds < _STALL_DS and t_new @ t < 0.0)):
                 angle = np.arccos(np.clip(t_new @ t, -1.0, 1.0))
                 if angle <= self.max_angle:
                     self.resume = None
                     # An easy step grows the next; so does a step shorter than a corner
                     # (Newton may stay slow near one however short the step).
                     grow = point.iterations <= _EASY_ITERATIONS or ds < _CORNER_DS
-                    ds = min(ds * _GROW, self.ds_max) if grow else ds
+                    ds = min(ds * _GROW if grow else ds,
+                             largest_step(point.z, angle, self.ds_max))
                     return (point, t_new, ds), ds
                 if ds < _CORNER_DS:
                     # The tangent turns as much over a step this short: a corner of the
@@ -737,8 +786,8 @@ class _Walk:
         branch; the others (turns of a zigzag over the map's corners, dropped there)
         are only marked at the step's end, as one Brent's method cannot locate.
 
-        At 0.15 Q, N = 1024, the walk meets 72 folds, nearly all of them turns of the
-        zigzag about the bouncing fold, and locates 3 (``bench_continuation`` times
+        At 0.15 Q, N = 1024, the walk meets 68 folds, nearly all of them turns of the
+        zigzag about the bouncing fold, and locates 2 (``bench_continuation`` times
         the call against one that locates every fold met).
         """
         if not self.pending_folds:
@@ -968,11 +1017,12 @@ def _results(shoot: PeriodMap, model, branches):
     f, p_a = shoot.drives(parameter)
     pa_frac = p_a / model.parameters.Q_n
     app = _app(model, shoot, y, v, f, p_a)
+    all_multipliers = floquet_multipliers(_monodromies(shoot, y, v, f, p_a))
     out, marks, first = [], [], 0
     for points, branch_marks, status, message in branches:
         branch_marks = _significant_folds(points, branch_marks)
         part = slice(first, first + len(points))
-        multipliers = floquet_multipliers(np.array([p.monodromy for p in points]).reshape(-1, 2, 2))
+        multipliers = all_multipliers[part]
         stable = np.abs(multipliers).max(axis=1, initial=0.0) < 1.0
         out.append(ContinuedBranch(frequency_hz=f[part], pa_frac=pa_frac[part], app_m=app[part],
                                    stable=stable, period=shoot.period, multipliers=multipliers,
@@ -992,6 +1042,23 @@ def _bifurcation(shoot: PeriodMap, model, mark: _Mark, f, app, pa_frac, paramete
                        pa_frac=float(pa_frac[i]), located=mark.located,
                        frequency_tol_hz=abs(float(f_far - f[i])),
                        pa_frac_tol=abs(float(p_a_far / model.parameters.Q_n - pa_frac[i])))
+
+
+def _monodromies(shoot: PeriodMap, y, v, f, p_a) -> np.ndarray:
+    """The monodromy matrix of each point's orbit at the point itself, all points as lanes
+    of one kernel call (``shoot_periods``): the walk's points keep the one where Newton
+    last evaluated R, a step before the point where ``near_enough`` stopped it. Measured
+    (2026-11-23): at 0.15 Q their multipliers differ from those at the points by up to
+    4.3e-6 (a corner between); against the orbits of the series' roots
+    (``tests/test_series_stability.py``) the multipliers at the points differ by 2.7e-11
+    at most (0.05 Q; 6.3e-13 at 0.3 Q, 650-850 Hz), those of the walk's points by up to
+    3.3e-9 (0.3 Q, 650-850 Hz), and before ``near_enough`` by 1.8e-10 (0.05 Q) and
+    1.9e-11 (0.3 Q). At 0.15 Q (2493 points, N = 1024) the call takes 10 ms."""
+    monodromy = np.empty((f.size, 2, 2))
+    if f.size:
+        shoot.kernels.shoot_periods(y.copy(), v.copy(), 1.0 / (shoot.steps * f), p_a,
+                                    shoot.drive, shoot.period, monodromy)
+    return monodromy
 
 
 def _app(model, shoot: PeriodMap, y, v, f, p_a) -> np.ndarray:

@@ -247,7 +247,9 @@ class FoldMap(PeriodMap):
     """The fold system [R; g] of period-1 orbits in w = (y/y0, v/(omega0 y0), f/f_n0, a)."""
 
     def __init__(self, model: ContactModel, steps: int) -> None:
-        super().__init__(model, 0.0, steps, period=1)
+        # Its residual, the fold system [R; g], is its own: Newton on it stays in Python
+        # (the compiled walk's corrects R alone).
+        super().__init__(model, 0.0, steps, period=1, engine="python")
         self.q_n = model.parameters.Q_n
         self.model = model
 

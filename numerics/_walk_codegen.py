@@ -48,12 +48,14 @@ def _source(kernels: ModuleType) -> str:
 
 
 def _smoke(module: ModuleType) -> None:
-    """One walk of one step on a 4-step map, with the argument types of the real calls:
-    numba loads (or compiles) the machine code here, so that a broken cache file shows
-    now and is rebuilt."""
+    """One correction and one walk of one step on a 4-step map, with the argument types
+    of the real calls: numba loads (or compiles) the machine code here, so that a broken
+    cache file shows now and is rebuilt."""
     drive = drive_table(4)
-    settings = np.zeros(module._TURN_SHARE + 1)  # no Newton iteration, least ds 1e-3: one try
+    settings = np.zeros(module._SETTINGS)  # no Newton iteration, least ds 1e-3: one try
     settings[module._DS_MIN] = settings[module._STALL] = 1e-3
+    module.correct(np.ones(3), np.array([0.0, 0.0, 1.0]), 1.0, np.ones(3), 4, 1, drive,
+                   False, 1.0, settings, np.empty(3), np.empty((2, 3)), np.empty((2, 2)))
     rows = 1
     module.walk_steps(np.ones(3), np.array([0.0, 0.0, 1.0]), np.eye(2), 1.0,
                       np.array([1e-3, -1.0]), np.ones(3), 4, 1, drive, False, 1.0, settings,

@@ -21,10 +21,11 @@ import numpy as np
 # fmt: off
 # Indices into `settings`: the walk's numbers (filled by _continuation._Walk), then the
 # corrector's (PeriodMap.newton_settings), then the band's ends in z and the walk's
-# _TURN_SHARE.
+# _TURN_SHARE, _STRAIGHT, _SIZE_REFERENCE and _SIZE_CEILING; _SETTINGS of them.
 _DS_MIN, _DS_MAX, _MAX_ANGLE, _GROW, _SHRINK, _CORNER_DS, _EASY, _STALL = 0, 1, 2, 3, 4, 5, 6, 7
-_TOL, _ITERATIONS, _REACH, _BACKTRACKS, _CONTRACTION = 8, 9, 10, 11, 12
-_F_LO, _F_HI, _TURN_SHARE = 13, 14, 15
+_TOL, _ITERATIONS, _REACH, _BACKTRACKS, _CONTRACTION, _ESTIMATED = 8, 9, 10, 11, 12, 13
+_F_LO, _F_HI, _TURN_SHARE, _STRAIGHT, _SIZE_REFERENCE, _SIZE_CEILING = 14, 15, 16, 17, 18, 19
+_SETTINGS = 20
 # What walk_steps returns: the step failed (ds below its least), a step for Python to
 # finish (at index `kept` of the outputs), or the outputs are full.
 WALK_FAILED, WALK_PENDING, WALK_FULL = 0, 1, 2
@@ -90,11 +91,31 @@ def det3(a0, a1, b):
 
 
 @numba.njit(cache=True, error_model="numpy")
+def near_enough(step, before, tol):
+    """``_continuation_map.near_enough``: the steps still to come, at the rate
+    step / before, add up to less than tol."""
+    rate = step / before
+    return rate < 1.0 and step * rate < tol * (1.0 - rate)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def largest_step(z, angle, settings):
+    """``_continuation.largest_step``: ds_max, or where the branch runs straight, ds_max
+    times the orbit's size |(y, v)| in z over _SIZE_REFERENCE, between 1 and
+    _SIZE_CEILING."""
+    if angle > settings[_STRAIGHT]:
+        return settings[_DS_MAX]
+    size = math.sqrt(z[0] * z[0] + z[1] * z[1]) / settings[_SIZE_REFERENCE]
+    return settings[_DS_MAX] * min(max(1.0, size), settings[_SIZE_CEILING])
+
+
+@numba.njit(cache=True, error_model="numpy")
 def correct(z0, row, target, scale, steps, period, drive, force_is_parameter, other,
             settings, z_out, jac_out, mono_out):
-    """``PeriodMap.correct_step``: Newton on [R(z) = 0, row . z = target] from z0, with
-    the same line search and contraction test; the iterations it took (0 when it does not
-    converge), the point into z_out, jac_out, mono_out."""
+    """``PeriodMap.correct``: Newton on [R(z) = 0, row . z = target] from z0, with the
+    same line search, and the contraction test and stop by ``near_enough`` as
+    ``settings`` say (the walk's steps: ``correct_step``'s); the iterations it took (0
+    when it does not converge), the point into z_out, jac_out, mono_out."""
     z = z0.copy()
     jac, mono = np.empty((2, 3)), np.empty((2, 2))
     j_trial, m_trial = np.empty((2, 3)), np.empty((2, 2))
@@ -119,6 +140,12 @@ def correct(z0, row, target, scale, steps, period, drive, force_is_parameter, ot
             return iteration
         if not (largest < settings[_REACH] and largest <= settings[_CONTRACTION] * before):
             return 0
+        if (settings[_ESTIMATED] > 0.0 and before < np.inf
+                and near_enough(largest, before, settings[_TOL])):
+            z_out[:] = z + step
+            jac_out[:, :] = jac
+            mono_out[:, :] = mono
+            return iteration + 1
         before = largest
         norm = math.sqrt(full @ full)
         reduced = False
@@ -203,12 +230,15 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
                                  mono_out[kept])
             if iterations > 0:
                 tangent(jac_out[kept], t, orientation, t_new)
-            if iterations > 0 and np.isfinite(t_new).all():  # no tangent: as a failed Newton
+            # No tangent, or one turned back below the stall's ds: as a failed Newton.
+            if (iterations > 0 and np.isfinite(t_new).all()
+                    and not (ds < settings[_STALL] and t_new @ t < 0.0)):
                 angle = math.acos(min(max(t_new @ t, -1.0), 1.0))
                 if angle <= settings[_MAX_ANGLE]:
                     resume = -1.0
                     grow = iterations <= settings[_EASY] or ds < settings[_CORNER_DS]
-                    next_ds = min(ds * settings[_GROW], settings[_DS_MAX]) if grow else ds
+                    next_ds = min(ds * settings[_GROW] if grow else ds,
+                                  largest_step(z_new, angle, settings))
                     accepted = True
                     break
                 if ds < settings[_CORNER_DS]:

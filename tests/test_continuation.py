@@ -27,6 +27,11 @@ def band_005():
     return continue_orbits(0.05, 250.0, 1800.0)
 
 
+@pytest.fixture(scope="module")
+def branch_015():
+    return continue_orbits(0.15, 250.0, 1800.0)
+
+
 def _app_at(branch, f_hz, *, stable_only):
     """App of the branch where it crosses f_hz, by linear interpolation on each segment
     that brackets it (both ends stable, with ``stable_only``)."""
@@ -71,7 +76,7 @@ def test_the_folds_at_005q_are_where_the_sweeps_jump(primary_005):
 
 
 def test_every_stable_sweep_state_at_005q_lies_on_a_stable_branch(band_005):
-    # Measured: at most 0.33 % (ds_max = 0.02: linear interpolation between branch
+    # Measured: at most 0.34 % (ds_max = 0.02: linear interpolation between branch
     # points 30 Hz apart far from the peak); the sweep's own App tolerance is 0.5 %.
     runs = sweep(np.arange(250.0, 1800.5, 5.0), 0.05)
     for run in runs.runs:
@@ -85,13 +90,13 @@ def test_the_015q_branch_passes_the_bouncing_fold_and_holds_every_stable_sweep_s
         monkeypatch):
     # At 512 steps the walk up (through the fold at 1332.8 Hz, back along the middle
     # branch of bouncing orbits) stops at a corner of the piecewise smooth map near the
-    # bouncing fold (352.7 Hz); "auto" walks again at 1024 steps, where the branch is
+    # bouncing fold (352.55 Hz); "auto" walks again at 1024 steps, where the branch is
     # whole: one branch, the bouncing fold at 352.4 Hz. The walk down at 512 steps (it
     # would stop at 366.7 Hz) is not made.
     # The 5 Hz sweep down (at its own, coarser N) jumps off that branch at 355 Hz: the
     # fold within one grid step of the jump (measured 2.6 Hz). Every settled sweep state
-    # lies on a stable continued branch (measured: 0.17 % at most; the sweep's App
-    # tolerance is 0.5 %).
+    # lies on a stable continued branch (measured: 0.153 % at most, as before the steps
+    # past ds_max on the bouncing arcs; the sweep's App tolerance is 0.5 %).
     from numerics import _continuation
 
     made, band_walk = [], _continuation._band_walk
@@ -118,11 +123,13 @@ def test_the_015q_branch_passes_the_bouncing_fold_and_holds_every_stable_sweep_s
     assert bouncing.frequency_tol_hz == pytest.approx(_FOLD_PROMINENCE * f_n0, rel=5e-8)
     # Route 2, the same N-step map walked with other steps (corners accepted only below
     # ds = 1e-4, a step whose tangent turns too far halved, not shortened by the turn's
-    # share): its bouncing fold, marked, not located, lies 0.092 Hz away (measured),
-    # within the tolerance; Brent's 1.5e-5 Hz would have been false.
+    # share, no step past ds_max): its bouncing fold, marked, not located, lies 0.092 Hz
+    # away (measured), within the tolerance; Brent's 1.5e-5 Hz would have been false.
+    # (With steps past ds_max on the bouncing arcs, route 2 lands on route 1's fold.)
     with pytest.MonkeyPatch.context() as patched:
         patched.setattr(_continuation, "_CORNER_DS", 1e-4)
         patched.setattr(_continuation, "_TURN_SHARE", np.inf)
+        patched.setattr(_continuation, "_SIZE_CEILING", 1.0)
         other = continue_orbits(0.15, 250.0, 1800.0).folds()
     assert [round(b.frequency_hz) for b in other] == [1333, 352]
     assert 0.05 < abs(other[1].frequency_hz - bouncing.frequency_hz) <= bouncing.frequency_tol_hz
@@ -144,7 +151,8 @@ def test_near_the_bouncing_fold_the_walk_gives_up_stalled_newtons_and_creeping_s
     # hand-over to a step in f alone (_continuation._STALL_DS) took the Python walk at
     # N = 1024 from 37,603 evaluations of R to 17,629, with the same folds; with the
     # shrink by the turn (_continuation._TURN_SHARE), 35,132 without them and 17,409 with
-    # them (measured).
+    # them; with Newton's stop by estimate (_continuation_map.near_enough) and steps past
+    # ds_max on the bouncing arcs (_continuation.largest_step), 9,822 (measured).
     from unittest import mock
 
     from numerics._continuation_map import PeriodMap
@@ -154,7 +162,70 @@ def test_near_the_bouncing_fold_the_walk_gives_up_stalled_newtons_and_creeping_s
         run = continue_orbits(0.15, 250.0, 1800.0, steps_per_period=1024, engine="python")
     assert [round(b.frequency_hz, 2) for b in run.folds()] == [1332.84, 352.36]
     assert run.branches[0].status == Status.SUCCESS
-    assert spy.call_count <= 18_300  # measured 17,409: 5 % more is seen
+    assert spy.call_count <= 10_300  # measured 9,822: 5 % more is seen
+
+
+def test_newtons_stop_by_estimate_keeps_the_walk_on_the_branch(monkeypatch):
+    # The walk's arclength steps stop Newton once the steps still to come, at the rate of
+    # the last two, add up to less than NEWTON_TOL (_continuation_map.near_enough): that
+    # saves the evaluation of R which would only show the next step below it. Route 2, the
+    # exact test alone: at 0.05 Q the same 120 points, stability and folds (measured
+    # within 1.8e-12 Hz; the points themselves lie up to 6e-8 apart along the branch, as
+    # the tangents, taken a step before the root, steer the steps), 388 evaluations of R
+    # against 347 (Python walk).
+    from unittest import mock
+
+    from numerics import _continuation_map
+    from numerics._continuation_map import PeriodMap
+
+    runs, calls = {}, {}
+    for estimated in (True, False):
+        monkeypatch.setattr(_continuation_map, "_ESTIMATED", estimated)
+        with mock.patch.object(PeriodMap, "residual", autospec=True,
+                               side_effect=PeriodMap.residual) as spy:
+            runs[estimated] = continue_orbits(0.05, 1300.0, 1600.0, engine="python")
+        calls[estimated] = spy.call_count
+    (a,), (b,) = runs[True].branches, runs[False].branches
+    assert a.frequency_hz.size == b.frequency_hz.size == 120
+    assert np.array_equal(a.stable, b.stable)
+    for x, y in zip(runs[True].bifurcations, runs[False].bifurcations, strict=True):
+        assert x.kind == y.kind and abs(x.frequency_hz - y.frequency_hz) < 1e-11
+    assert calls[True] < 0.95 * calls[False], calls  # measured 347 against 388
+
+
+def test_every_point_of_the_015q_branch_is_a_root_of_the_shooting_residual(branch_015):
+    # Newton's stop by estimate (near_enough) leaves each point as near the root as the
+    # exact test did: |R| in z at most 5.5e-13 over the 2493 points (measured; 6.0e-13
+    # with the exact test alone, the round-off of one period of RK4 being some 1e-13).
+    from numerics._continuation_map import PeriodMap
+
+    model = ContactModel()
+    shoot = PeriodMap(model, 0.15 * model.parameters.Q_n,
+                      branch_015.settings["steps_per_period"], 1)
+    (branch,) = branch_015.branches
+    z = np.column_stack([branch.y_start_m, branch.v_start_m_s, branch.frequency_hz])
+    residuals = [np.abs(shoot.residual(point)[0]).max() for point in z / shoot.scale]
+    assert max(residuals) < 2e-12, max(residuals)
+
+
+def test_steps_grow_past_ds_max_only_where_large_orbits_run_straight(branch_015, band_005):
+    # _continuation.largest_step: where the tangent turns little, a step may be ds_max
+    # times the orbit's size |(y, v)| in z over 2 (a bouncing orbit), up to 20 ds_max.
+    # Measured: at 0.15 Q the longest step, 0.23 in z (11.5 ds_max), on an orbit of
+    # |(y, v)| = 25; at 0.05 Q, where every orbit stays in contact, none past ds_max (a
+    # chord is at most 0.13 % longer than its step along the tangent).
+    y0, omega0 = eq26_numbers().y0_m, eq26_numbers().omega0_rad_s
+    ds_max = branch_015.settings["ds_max"]
+    longest = {}
+    for run in (branch_015, band_005):
+        (branch,) = run.branches
+        z = np.column_stack([branch.y_start_m / y0, branch.v_start_m_s / (omega0 * y0)])
+        chords = np.linalg.norm(np.diff(np.column_stack(
+            [z, branch.frequency_hz / eq26_numbers().f_n0_hz]), axis=0), axis=1)
+        size = np.hypot(z[:-1, 0], z[:-1, 1])
+        assert (chords <= 1.01 * ds_max * np.clip(size / 2, 1.0, 20.0)).all()
+        longest[run.pa_frac] = chords.max() / ds_max
+    assert longest[0.15] > 10 and longest[0.05] < 1.01, longest
 
 
 def test_the_middle_branch_is_unstable_and_an_orbit_on_it_really_leaves(primary_005):
@@ -685,7 +756,7 @@ def test_folds_are_located_once_the_walk_knows_which_turns_are_folds():
     # _locate_folds locates only the folds near a turn of f that _significant_folds keeps
     # (at 0.15 Q, N = 1024, 3 of the 72 met: the rest are turns of the zigzag about the
     # bouncing fold). Route 2, every fold met located (the route before): the same
-    # bifurcations to the last bit, and the same points in the same order but the 67
+    # bifurcations to the last bit, and the same points in the same order but the 65
     # (measured) that those extra locations kept. Each fold located is where f turns:
     # a point inserted one place off would not be an extreme of f.
     from numerics import _continuation
@@ -699,7 +770,7 @@ def test_folds_are_located_once_the_walk_knows_which_turns_are_folds():
     kept = np.isin(theirs.frequency_hz, ours.frequency_hz)
     assert np.array_equal(theirs.frequency_hz[kept], ours.frequency_hz)
     assert np.array_equal(theirs.app_m[kept], ours.app_m)
-    assert (~kept).sum() == 67
+    assert (~kept).sum() == 65
     f = ours.frequency_hz
     for fold in run.folds():
         (i,) = np.flatnonzero(f == fold.frequency_hz)

@@ -80,18 +80,20 @@ def _compared(pa_frac, fmin_hz, fmax_hz):
 
 @pytest.mark.parametrize("pa_frac, fmin_hz, fmax_hz, min_known, min_unstable, worst_mu", [
     # Measured (points of the continued branch matched by a flagged root, of them
-    # unstable, worst multiplier gap): 107 of 111, 32, 1.8e-10 at 0.05 Q; 52 of 59, 27,
-    # 5.7e-9 at 0.15 Q (near the folds M - I is nearly singular and Newton stops at
-    # 1e-10 y0); 62 of 83, 34, 1.3e-9 at 0.1 Q; 41 of 44, 19, 1.3e-9 at 0.3 Q; on the
-    # 1/2 superharmonic, all stable, 92 of 93, 1.1e-9 at 0.15 Q and 44 of 98, 1.9e-11 at
-    # 0.3 Q (where the series has no root of its many crossings; 49 before the distance
-    # allowed was capped at half the amplitude: five invalid roots lost their flags).
-    (0.05, 1300.0, 1600.0, 0.95, 30, 1e-9),
-    (0.15, 1150.0, 1600.0, 0.85, 25, 2e-8),
-    (0.1, 1100.0, 1600.0, 0.7, 30, 5e-9),
-    (0.3, 1100.0, 1600.0, 0.9, 17, 5e-9),
-    (0.15, 650.0, 850.0, 0.95, 0, 5e-9),
-    (0.3, 650.0, 850.0, 0.44, 0, 1e-10),
+    # unstable, worst multiplier gap): 107 of 111, 32, 2.7e-11 at 0.05 Q (near the folds
+    # M - I is nearly singular); 52 of 59, 27, 3.4e-13 at 0.15 Q; 62 of 83, 34, 3.3e-13
+    # at 0.1 Q; 41 of 44, 19, 2.6e-13 at 0.3 Q; on the 1/2 superharmonic, all stable,
+    # 92 of 92, 1.3e-13 at 0.15 Q and 44 of 98, 6.3e-13 at 0.3 Q (where the series has no
+    # root of its many crossings; 49 before the distance allowed was capped at half the
+    # amplitude: five invalid roots lost their flags). The gaps are round-off since the
+    # continued points' multipliers are computed at the points themselves (before, at
+    # the walk's last Newton iterate: up to 5.7e-9); the bounds allow about 4x.
+    (0.05, 1300.0, 1600.0, 0.95, 30, 1e-10),
+    (0.15, 1150.0, 1600.0, 0.85, 25, 1.5e-12),
+    (0.1, 1100.0, 1600.0, 0.7, 30, 1.5e-12),
+    (0.3, 1100.0, 1600.0, 0.9, 17, 1e-12),
+    (0.15, 650.0, 850.0, 0.95, 0, 5e-13),
+    (0.3, 650.0, 850.0, 0.44, 0, 2.5e-12),
 ])
 def test_flags_and_multipliers_are_those_of_the_continued_branch(pa_frac, fmin_hz, fmax_hz,
                                                                  min_known, min_unstable,

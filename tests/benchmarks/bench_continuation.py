@@ -6,6 +6,9 @@ Issue 13's goal: under 0.5 s once compiled. Baselines, measured in the same run:
 - the walk's corrections as before the contraction test and the stall hand-over
   (emulated through their module constants), in time and in the Python walk's
   evaluations of R;
+- the walk as before Newton's stop by estimate and the steps past ds_max on large
+  orbits (emulated through ``_continuation_map._ESTIMATED`` and
+  ``_continuation._SIZE_CEILING``), in time, evaluations of R and points;
 - continuation packages from the package index, pycont-lite and contique, driving
   ``continue_orbits``' own shooting residual from the same start points over the same
   band (``_pycont``): their time, residual calls, the points they reached and how far
@@ -59,6 +62,17 @@ def main() -> None:
     every = interleaved_medians(_continue, _continue_locating_every_fold, repeats=5)
     row("continue_orbits [s] vs locating every fold met (the route before, emulated) [s]", *every,
         "s", higher_is_better=False)
+    before = interleaved_medians(_continue, lambda: _as_before_estimates(_continue), repeats=5)
+    row("continue_orbits [s] vs Newton's exact stop, no step past ds_max (the route "
+        "before, emulated) [s]", *before, "s", higher_is_better=False)
+    row("R evaluations of the Python walk: now vs that route before",
+        residual_calls(_continue_in_python),
+        residual_calls(lambda: _as_before_estimates(_continue_in_python)),
+        higher_is_better=False)
+    row("points on the branches: now vs that route before",
+        sum(b.frequency_hz.size for b in run.branches),
+        sum(b.frequency_hz.size for b in _as_before_estimates(_continue).branches),
+        higher_is_better=False)
     patient = interleaved_medians(_continue, lambda: _patiently(_continue), repeats=5)
     row("continue_orbits [s] vs no contraction test, no stall hand-over (emulated) [s]",
         *patient, "s", higher_is_better=False)
@@ -113,6 +127,20 @@ def _patiently(function):
         return function()
     finally:
         _continuation_map._CONTRACTION, _continuation._STALL_DS = before
+
+
+def _as_before_estimates(function):
+    """``function()`` with the walk as before ``_continuation_map.near_enough`` and
+    ``_continuation.largest_step``: Newton's arclength steps stop by the exact test alone
+    (one more evaluation of R), and no step grows past ds_max."""
+    from numerics import _continuation, _continuation_map
+
+    before = _continuation_map._ESTIMATED, _continuation._SIZE_CEILING
+    _continuation_map._ESTIMATED, _continuation._SIZE_CEILING = False, 1.0
+    try:
+        return function()
+    finally:
+        _continuation_map._ESTIMATED, _continuation._SIZE_CEILING = before
 
 
 def _evaluation_routes(steps: int) -> tuple[float, float]:

@@ -298,8 +298,8 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "fmax_hz": ("upper end of the band of f_e a branch is continued in", "Hz", ""),
     "ds_max": ("largest continuation step, in the scaled unknowns (y/y0, v/(omega0 y0), "
                "f/f_n0), for orbits within twice the static deflection; where the branch "
-               "runs straight on a larger orbit, up to ds_max |(y, v)| / 2 in those units, "
-               "at most 20 ds_max", "1", ""),
+               "runs straight on a larger orbit, up to ds_max times half the orbit's size "
+               "sqrt(y^2 + v^2) in those units, at most 20 ds_max", "1", ""),
     "max_angle": ("largest angle between the tangents of consecutive continued points",
                   "rad", ""),
     "max_points": ("most points a walk of a continued branch may take (the folds located "
@@ -368,6 +368,11 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
 def glossary_table() -> str:
     """The glossary as a Markdown table (the README shows it)."""
     rows = ["| name | meaning | unit | paper |", "|---|---|---|---|"]
-    rows += [f"| `{name}` | {meaning} | {unit} | {paper} |"
-             for name, (meaning, unit, paper) in GLOSSARY.items()]
+    rows += ["| " + " | ".join([f"`{name}`", *map(_cell, entry)]) + " |"
+             for name, entry in GLOSSARY.items()]
     return "\n".join(rows)
+
+
+def _cell(text: str) -> str:
+    """``text`` as one Markdown table cell (a | in it would end the cell)."""
+    return text.replace("|", "\\|")

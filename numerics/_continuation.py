@@ -58,8 +58,8 @@ __all__ = ["Bifurcation", "Continuation", "ContinuedBranch", "continue_orbits", 
 DEFAULTS = {"steps_per_period": "auto", "ds_max": 0.02, "max_angle": 0.1, "max_points": 20_000}
 #: The least N of "auto": the map's corners (a step's stage crossing y = 0) grow with the
 #: step; at 0.15 Q, N = 128 shows zigzags of f by 0.27 Hz on the bouncing middle branch
-#: (taken for folds) and stops at 398 Hz, N = 512 none and reaches 355 Hz (352.7 Hz with
-#: the contraction test).
+#: (taken for folds) and stops at 398 Hz, N = 512 none and reaches 355 Hz (352.55 Hz with
+#: the contraction test and the steps past ds_max).
 _AUTO_MIN_STEPS = 512
 #: "auto" doubles N, up to this, while a walk stops inside the band at a corner: at 0.15 Q
 #: the walk up stops near the bouncing fold (352.55 Hz) at 512 steps, and the branch passes
@@ -85,9 +85,10 @@ _STALL_DS = 1e-5
 _GROW, _SHRINK = 1.5, 0.5
 #: A step whose tangent turns by more than max_angle is shortened by this share of
 #: max_angle over the turn (the turn grows with the step), by _SHRINK at least. At 0.17 Q,
-#: N = 2048, the walks then end 5.8 Hz apart (263.8 and 269.6 Hz) and the bouncing fold
-#: is located; with _SHRINK alone, 7.5 Hz apart (263.8 and 271.3 Hz), the fold marked
-#: (2026-11-23, with the contraction test; 264.7 and 269.6 Hz, located, before it).
+#: N = 2048, the bouncing fold is then located; with _SHRINK alone it was only marked
+#: (2026-11-23, before the larger steps on straight orbits: the walks then ended 5.8 Hz
+#: apart, 263.8 and 269.6 Hz, against 7.5 Hz with _SHRINK alone; the compiled walk down
+#: now ends at 271.25 Hz, round-off at another corner, the Python walk at 269.6 Hz).
 _TURN_SHARE = 0.9
 #: A tangent that turns by more than max_angle over a step this short (in z) turns at a
 #: corner of the branch, not at a fold (the map is only piecewise smooth through loss

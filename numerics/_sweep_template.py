@@ -579,9 +579,9 @@ def _steady_states(steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
     steps, the lanes that failed, did not settle, or settled with p > 1 or too coarsely,
     into the fine tables, and keeps its result where it is at least as good."""
     n = f_e.shape[0]
-    # Booleans of no literal type: with True/False, numba would compile _solve once for
-    # each combination of literals it meets (each compile some 7-25 s).
-    _YES, _NO = np.bool_(True), np.bool_(False)
+    # Booleans of no literal type: with True/False, numba would compile _solve once more
+    # for each combination of literals it meets (bench_sweep's cold start row).
+    true, false = np.bool_(True), np.bool_(False)
     fl, it, mult, maxima, minima = _point_tables(n)
     fine_fl, fine_it, fine_mult, fine_maxima, fine_minima = _point_tables(n)
     lanes = np.arange(n)
@@ -600,9 +600,9 @@ def _steady_states(steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
             if coarse.size:
                 _solve_by_steps(coarse, level_steps, f_e, p_a, fl[:, F_Y].copy(),
                                 fl[:, F_V].copy(), it[:, I_PERIOD].copy(),
-                                fl[:, F_YMAX] - fl[:, F_YMIN], cap, limit, _YES, use_newton,
+                                fl[:, F_YMAX] - fl[:, F_YMIN], cap, limit, true, use_newton,
                                 tol, app_rtol, length, tables, table_steps, table_offset,
-                                fine_fl, fine_it, fine_mult, fine_maxima, fine_minima, _YES)
+                                fine_fl, fine_it, fine_mult, fine_maxima, fine_minima, true)
                 found = np.zeros(coarse.size, dtype=np.bool_)
                 for i in range(coarse.size):
                     found[i] = _sharpened(fl[coarse[i]], fine_fl[coarse[i]],
@@ -620,7 +620,7 @@ def _steady_states(steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
                         continuation, use_newton, tol, app_rtol, length, tables, table_steps,
                         table_offset, fine_fl if fine else fl, fine_it if fine else it,
                         fine_mult if fine else mult, fine_maxima if fine else maxima,
-                        fine_minima if fine else minima, _NO)
+                        fine_minima if fine else minima, false)
         if fine:
             _merge(redo, fl, it, mult, maxima, minima, fine_fl, fine_it, fine_mult,
                    fine_maxima, fine_minima)

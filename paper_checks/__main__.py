@@ -83,13 +83,11 @@ def _exit(code: int) -> None:
 
 if __name__ == "__main__":
     # The command runs without the cyclic garbage collector, and so do the processes
-    # it forks: its imports and the kernels' loading create some 350,000 objects that
-    # all stay, and the collections that kept looking through them took 0.2 to 0.37 s
-    # of the 1.4 to 1.8 s of CPU before the workers start (medians of 8, 2026-11-23;
-    # `bench_paper.py` measures it), and 0.4 s more in the workers. The figures' and
-    # the compilers' reference cycles then stay until the process ends: 36 MB more at
-    # the peak with the kernels cached (363 against 327 MB, every scene in one
-    # process), 75 MB more in the largest process of a run that compiles them (421
-    # against 347 MB).
+    # it forks: its imports and the kernels' loading create objects that all stay, and
+    # the collections kept looking through them (`bench_paper.py` times the start with
+    # the collector on and off). The figures' and the compilers' reference cycles then
+    # stay until the process ends: measured once by hand (2026-11-23, no benchmark),
+    # 36 MB more at the peak with the kernels cached (363 against 327 MB), 75 MB more in
+    # the largest process of a run that compiles them (421 against 347 MB).
     gc.disable()
     _exit(main())

@@ -754,7 +754,7 @@ def test_continued_in_force_the_period_doubling_is_where_continuation_in_f_has_i
 
 def test_folds_are_located_once_the_walk_knows_which_turns_are_folds():
     # _locate_folds locates only the folds near a turn of f that _significant_folds keeps
-    # (at 0.15 Q, N = 1024, 3 of the 72 met: the rest are turns of the zigzag about the
+    # (at 0.15 Q, N = 1024, 2 of the 68 met: the rest are turns of the zigzag about the
     # bouncing fold). Route 2, every fold met located (the route before): the same
     # bifurcations to the last bit, and the same points in the same order but the 65
     # (measured) that those extra locations kept. Each fold located is where f turns:

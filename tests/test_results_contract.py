@@ -159,3 +159,14 @@ def test_the_readme_shows_the_glossary():
         "the README's glossary differs from common/_glossary.py: paste the output of "
         "`python -c 'from common import glossary_table; print(glossary_table())'` "
         "between its <!-- glossary --> marks")
+
+
+def test_every_glossary_row_has_its_four_cells(monkeypatch):
+    # A | in a meaning once cut the ds_max row short in the README (a review found it).
+    import re
+
+    import common._glossary as glossary
+
+    monkeypatch.setitem(glossary.GLOSSARY, "piped", ("|z| of a vector", "1", ""))
+    for line in glossary_table().splitlines():
+        assert len(re.split(r"(?<!\\)\|", line)) == 6, line  # 4 cells between 5 bars

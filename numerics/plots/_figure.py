@@ -112,9 +112,8 @@ def _share_mathtext(renderer) -> None:
 
     matplotlib keeps what it parsed of a label ($10^{3}$) per parser, and gives each
     renderer a parser of its own: every figure, and every axis measured by
-    ``fixed_layout``, parsed its labels again: 102 parses for the report's nine
-    figures, 0.45 s of the 3.0 s of CPU that drawing them took (2026-11-23).
-    ``tests/test_plots.py`` holds the files equal; ``bench_paper.py`` times it.
+    ``fixed_layout``, parsed its labels again. ``tests/test_plots.py`` holds the files
+    equal and counts the parses; ``bench_paper.py`` times it on Fig. 2.
     """
     renderer.mathtext_parser = _MATHTEXT
 

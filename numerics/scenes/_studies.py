@@ -229,7 +229,8 @@ _RUNNERS = {
 def register_study(kind: str, study, runner) -> None:
     """Add a kind of study (a ``Study`` of its options and outputs, and its runner
     ``runner(scene, model, frequency_hz, quiet) -> StudyRun``); a package that owns a
-    study, as paper_checks owns the work-precision study, registers it on import."""
+    study, as paper_checks owns the work-precision study, registers it when the module
+    that defines it is imported."""
     from ._schema import STUDIES
 
     if kind in STUDIES and _RUNNERS.get(kind) is not runner:

@@ -76,7 +76,7 @@ def main() -> None:
     patient = interleaved_medians(_continue, lambda: _patiently(_continue), repeats=5)
     row("continue_orbits [s] vs no contraction test, no stall hand-over (emulated) [s]",
         *patient, "s", higher_is_better=False)
-    row("R evaluations of the Python walk: now vs that route before",
+    row("R evaluations of the Python walk: now vs no contraction test, no stall hand-over",
         residual_calls(_continue_in_python),
         residual_calls(lambda: _patiently(_continue_in_python)), higher_is_better=False)
     steps = run.settings["steps_per_period"]

@@ -1,6 +1,7 @@
 """The figures are drawn from result objects and saved as PNG, without pyplot; the
 report's scenes draw theirs in worker processes."""
 
+import os
 import subprocess
 import sys
 
@@ -131,6 +132,27 @@ def test_a_figure_drawn_again_parses_no_label_again(tmp_path, monkeypatch):
     assert new_parses() == 0
     monkeypatch.setattr(_figure, "_share_mathtext", lambda renderer: None)
     assert new_parses() > 0
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs fork")
+def test_a_forked_child_parses_with_fonts_of_its_own():
+    # Regression: the shared parser's FreeType fonts read their files through file
+    # descriptors that a forked child shares with its parent; a child drawing with them
+    # made the parent's glyphs fail ("invalid outline"; CI, make paper's forked scenes).
+    _figure._measuring_renderer()  # the parent's, cached
+    parent = id(_figure._MATHTEXT)
+    read, write = os.pipe()
+    child = os.fork()
+    if child == 0:  # the child answers through the pipe and leaves at once
+        own = (id(_figure._MATHTEXT) != parent
+               and _figure._measuring_renderer.cache_info().currsize == 0)
+        os.write(write, b"1" if own else b"0")
+        os._exit(0)
+    os.close(write)
+    answer = os.read(read, 1)
+    os.waitpid(child, 0)
+    assert answer == b"1"
+    assert id(_figure._MATHTEXT) == parent  # the parent keeps its own
 
 
 # -- fixed layouts: the margins of constrained layout without its measuring

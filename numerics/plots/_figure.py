@@ -107,6 +107,23 @@ def _measuring_renderer():
     return renderer
 
 
+def _own_parser_after_fork() -> None:
+    """Give a forked child a parser (and a measuring renderer) of its own.
+
+    The shared parser keeps FreeType fonts, and a font reads its file through a file
+    descriptor that a forked child shares with its parent, offset and all: a child
+    parsing with the parent's fonts moved the parent's reads ("FT_Load_Glyph ...
+    invalid outline" in the parent, tests/test_paper_checks.py, once). matplotlib
+    clears its own font cache in a forked child for the same reason."""
+    global _MATHTEXT
+    _MATHTEXT = MathTextParser("path")
+    _measuring_renderer.cache_clear()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_own_parser_after_fork)
+
+
 def _share_mathtext(renderer) -> None:
     """Give ``renderer`` the mathtext parser of every renderer here.
 

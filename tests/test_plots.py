@@ -135,24 +135,33 @@ def test_a_figure_drawn_again_parses_no_label_again(tmp_path, monkeypatch):
 
 
 @pytest.mark.skipif(not hasattr(os, "fork"), reason="needs fork")
-def test_a_forked_child_parses_with_fonts_of_its_own():
-    # Regression: the shared parser's FreeType fonts read their files through file
-    # descriptors that a forked child shares with its parent; a child drawing with them
-    # made the parent's glyphs fail ("invalid outline"; CI, make paper's forked scenes).
-    _figure._measuring_renderer()  # the parent's, cached
-    parent = id(_figure._MATHTEXT)
-    read, write = os.pipe()
-    child = os.fork()
-    if child == 0:  # the child answers through the pipe and leaves at once
-        own = (id(_figure._MATHTEXT) != parent
-               and _figure._measuring_renderer.cache_info().currsize == 0)
-        os.write(write, b"1" if own else b"0")
-        os._exit(0)
-    os.close(write)
-    answer = os.read(read, 1)
-    os.waitpid(child, 0)
-    assert answer == b"1"
-    assert id(_figure._MATHTEXT) == parent  # the parent keeps its own
+def test_a_forked_child_and_its_parent_draw_at_once(tmp_path):
+    # Regression: the shared mathtext parser's FreeType fonts read their files through
+    # descriptors that a forked child shares with its parent, offset and all; with both
+    # drawing at once, glyphs failed ("FT_Load_Glyph ... invalid outline", "too many
+    # hints": CI, make paper's forked scenes). Before the fix this drew 2-3 errors in
+    # 2 rounds of 6 figures each side (3 runs); a forked child now has its own parser.
+    heights = natural_frequency_vs_height(np.linspace(1e-6, 1e-4, 50))
+    plot_natural_frequency(heights, tmp_path / "before.png")  # fonts and parser loaded
+    failures = []
+    for round_ in range(2):
+        child = os.fork()
+        if child == 0:  # the child draws, then leaves at once with 0 or 1
+            code = 0
+            try:
+                for i in range(6):
+                    plot_natural_frequency(heights, tmp_path / f"child{round_}{i}.png")
+            except RuntimeError:
+                code = 1
+            os._exit(code)
+        try:
+            for i in range(6):
+                plot_natural_frequency(heights, tmp_path / f"parent{round_}{i}.png")
+        except RuntimeError as error:
+            failures.append(f"parent: {error}")
+        if os.waitpid(child, 0)[1]:
+            failures.append("child failed")
+    assert not failures
 
 
 # -- fixed layouts: the margins of constrained layout without its measuring

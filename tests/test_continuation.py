@@ -775,3 +775,23 @@ def test_folds_are_located_once_the_walk_knows_which_turns_are_folds():
     for fold in run.folds():
         (i,) = np.flatnonzero(f == fold.frequency_hz)
         assert (f[i] - f[i - 1]) * (f[i] - f[i + 1]) > 0, fold  # a strict extreme of f
+
+
+@pytest.mark.parametrize("fixture", ["primary_005", "branch_015"])
+def test_stability_changes_at_every_bifurcation_marked(fixture, request):
+    # A branch's stable flags come from multipliers computed at its points, its marks
+    # from the walk's own monodromies (up to 4.3e-6 apart): a mark must still sit where
+    # the flags change, within 2 points either side (measured: every mark at 0.05, 0.1,
+    # 0.15, 0.17, 0.2, 0.3, 0.4 and 0.5 Q, 250-1800 Hz, 14 in all).
+    run = request.getfixturevalue(fixture)
+    assert run.bifurcations
+    for mark in run.bifurcations:
+        nearest = []
+        for branch in run.branches:
+            f, app = np.asarray(branch.frequency_hz), np.asarray(branch.app_m)
+            gap = (np.abs(f - mark.frequency_hz) / f.max()
+                   + np.abs(app - mark.app_m) / np.nanmax(app))
+            k = int(np.argmin(gap))
+            nearest.append((gap[k], list(branch.stable[max(k - 2, 0):k + 3])))
+        flags = min(nearest, key=lambda pair: pair[0])[1]
+        assert len(set(flags)) > 1, (mark, flags)

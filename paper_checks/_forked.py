@@ -9,6 +9,7 @@ otherwise wait for the loading.
 from __future__ import annotations
 
 import multiprocessing
+import pickle
 import sys
 import traceback
 from collections.abc import Callable
@@ -45,6 +46,7 @@ class ForkedJobs:
         self._process.start()
         sender.close()  # the child's end: the pipe ends (EOFError) when the child does
         self._received: dict[str, tuple[bool, object]] = {}
+        self._ended = False
 
     def future(self, name: str) -> _Pending:
         return _Pending(self, name)
@@ -68,11 +70,16 @@ class ForkedJobs:
             pass
 
     def _receive(self) -> bool:
-        """Receive the next result; False once the child has ended (and is joined)."""
+        """Receive the next result; False once the child has ended (and is joined, and
+        the pipe closed)."""
+        if self._ended:
+            return False
         try:
             key, done, value = self._receiver.recv()
         except EOFError:
             self._process.join()
+            self._receiver.close()
+            self._ended = True
             return False
         self._received[key] = done, value
         return True
@@ -88,13 +95,24 @@ class _Pending:
         return self._jobs.result(self._name)
 
 
+def _portable(error: Exception, text: str) -> Exception:
+    """``error`` if it comes back whole from pickling (some do not: an exception whose
+    __init__ needs more than its args), else a RuntimeError with its last line."""
+    try:
+        pickle.loads(pickle.dumps(error))
+    except Exception:
+        return RuntimeError(text.splitlines()[-1])
+    return error
+
+
 def _run_and_send(sender, function: Callable, jobs: dict[str, tuple]) -> None:
     """In the child: run each job and send ``(name, done, result or (error, traceback))``."""
     for name, arguments in jobs.items():
         try:
             sent = (name, True, function(*arguments))
-        except BaseException as error:  # raised in the parent, where the result is asked for
-            sent = (name, False, (error, traceback.format_exc()))
+        except Exception as error:  # raised in the parent, where the result is asked for
+            text = traceback.format_exc()
+            sent = (name, False, (_portable(error, text), text))
         try:
             sender.send(sent)
         except Exception:  # a result or an error that does not pickle

@@ -174,6 +174,29 @@ def test_forked_jobs_give_each_result_or_error_where_it_is_asked_for():
     assert jobs.result("c") == 16
 
 
+class _Unloadable(Exception):
+    """An error that pickles but does not unpickle (its __init__ needs two arguments)."""
+
+    def __init__(self, first, second):
+        super().__init__(first)
+
+
+def _raise_unloadable(message):
+    raise _Unloadable(message, "second")
+
+
+@pytest.mark.skipif(not forks(), reason="ForkedJobs forks (Linux)")
+def test_a_forked_error_that_does_not_unpickle_comes_back_as_its_message():
+    # A review found such an error lost with "ended without the result" instead.
+    jobs = ForkedJobs(_raise_unloadable, {"bad": ("the message",), "next": ("x",)})
+    with pytest.raises(RuntimeError, match="_Unloadable: the message"):
+        jobs.result("bad")
+    with pytest.raises(RuntimeError, match="_Unloadable: x"):
+        jobs.result("next")  # the jobs after it still come back
+    jobs.join()
+    assert jobs._receiver.closed
+
+
 @pytest.mark.skipif(not forks(), reason="ForkedJobs forks (Linux)")
 def test_a_forked_process_that_dies_is_an_error_not_a_wait():
     jobs = ForkedJobs(os._exit, {"exit": (3,)})

@@ -353,6 +353,8 @@ def shoot_jacobian(y, v, dt, p_a, drive, periods, by_force, jacobian):
     the three columns. (``shoot_periods`` keeps the lanes innermost, which many lanes
     need to run fast; this loop, lane by lane, would not.)
     """
+    if jacobian.shape[0] != y.shape[0] or jacobian.shape[1] != 2 or jacobian.shape[2] != 3:
+        raise ValueError("shoot_jacobian: jacobian must have the shape (lanes, 2, 3)")
     steps = (drive.shape[0] - 1) // 2
     # The columns' seeds: d/dy and d/dv at the start, then the parameter's.
     dt_seed = np.array([0.0, 0.0, 0.0 if by_force else 1.0])

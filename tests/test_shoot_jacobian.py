@@ -38,6 +38,16 @@ def _period_map(lanes, dt, p_a):
     return np.stack([y, v], axis=1)
 
 
+@pytest.mark.parametrize("shape", [(3, 2, 2), (2, 2, 3), (3, 3, 3)])
+def test_a_jacobian_of_the_wrong_shape_is_an_error_not_a_write_past_its_end(lanes, shape):
+    # The columns are copied in a loop (numba compiles a slice assignment for seconds),
+    # which, unchecked, would write out of bounds where the assignment raised.
+    y, v = lanes["y"].copy(), lanes["v"].copy()
+    with pytest.raises(ValueError, match="shape"):
+        lanes["kernels"].shoot_jacobian(y, v, 1 / (STEPS * lanes["f"]), lanes["p_a"],
+                                        lanes["drive"], 1, False, np.empty(shape))
+
+
 @pytest.mark.parametrize("by_force", [False, True])
 def test_its_state_and_monodromy_are_shoot_periods_to_the_last_bit(lanes, by_force):
     y, v, jacobian = _jacobian(lanes, by_force)

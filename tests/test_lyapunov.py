@@ -9,6 +9,7 @@
 """
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -36,6 +37,27 @@ def chaos_exponents(chaos_census):
     lanes = chaos_census.lanes
     return largest_lyapunov(CHAOS_F_E, CHAOS_PA, lanes.y_start_m, lanes.v_start_m_s,
                             steps_per_period=lanes.steps_used, periods=4096)
+
+
+def test_its_tangent_is_the_first_column_of_shoot_periods_monodromy_to_the_last_bit():
+    # Both step through rk4_step_tangents (lyapunov_periods with a zero second direction):
+    # over one period from (dy, dv) = (1, 0), the state is shoot_periods' and the growth
+    # is the log of the norm of the monodromy's first column, to the last bit.
+    from numerics import compiled_kernels, drive_table
+
+    kernels, q = compiled_kernels(ContactModel()), PAPER.Q_n
+    y0 = eq26_numbers(PAPER).y0_m
+    y, v = np.array([1.2 * y0, -30 * y0]), np.array([0.0, 1e-3])  # in contact, bouncing
+    dt, p_a, drive = 1 / (256 * np.array([900.0, 600.0])), np.array([0.05, 0.3]) * q, \
+        drive_table(256)
+    ys, vs, monodromy = y.copy(), v.copy(), np.empty((2, 2, 2))
+    kernels.shoot_periods(ys, vs, dt, p_a, drive, 1, monodromy)
+    yl, vl, growth = y.copy(), v.copy(), np.empty((2, 1))
+    kernels.lyapunov_periods(yl, vl, np.ones(2), np.zeros(2), dt, p_a, drive, 1.0, growth, 1,
+                             np.full(2, -1), 0, np.full(2, np.inf))
+    assert np.array_equal(yl, ys) and np.array_equal(vl, vs)
+    column = [math.log(math.sqrt(a * a + b * b)) for a, b in monodromy[:, :, 0]]  # as it does
+    assert growth[:, 0].tolist() == column
 
 
 def test_the_linear_regime_decays_at_the_rate_c_of_eq_2_6():

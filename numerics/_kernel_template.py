@@ -125,21 +125,21 @@ def padded_width(lanes):
 def padded(a, width):
     """A copy of the lanes ``a``, padded with copies of its first lane to ``width``."""
     out = np.empty(width)
-    for lane in range(width):  # a loop: see ``unpad``
+    for lane in range(width):  # a loop: see ``copy_into``
         out[lane] = a[lane] if lane < a.shape[0] else a[0]
     return out
 
 
 @numba.njit(cache=True)
-def unpad(a, padded_a):
-    """Copy the first lanes of ``padded_a`` back into ``a``.
+def copy_into(target, source):
+    """target[:] = source[:target.shape[0]] (the first lanes of a padded batch too).
 
-    The kernels copy arrays in loops: numba compiles an assignment of one array to a
-    slice of another (``a[:] = b``) through its broadcasting machinery, for seconds
-    (bench_kernel: the first simulate() with an empty cache against the route that
-    had five such assignments)."""
-    for lane in range(a.shape[0]):
-        a[lane] = padded_a[lane]
+    The kernels, and the sweep's driver, copy arrays in loops: numba compiles an
+    assignment of one array to a slice of another (``a[:] = b``) through its
+    broadcasting machinery, for seconds (bench_kernel: the first simulate() with an
+    empty cache against the route that had five such assignments)."""
+    for k in range(target.shape[0]):
+        target[k] = source[k]
 
 
 #: record_periods runs this many steps of every lane into a buffer, then reads each
@@ -177,9 +177,8 @@ def record_periods(
     for period in range(periods):
         for start in range(0, steps, RECORD_BLOCK):
             count = min(RECORD_BLOCK, steps - start)
-            for lane in range(width):
-                block_y[0, lane] = ys[lane]
-                block_v[0, lane] = vs[lane]
+            copy_into(block_y[0], ys)
+            copy_into(block_v[0], vs)
             for j in range(count):
                 c0, ch, c1 = drive_at_step(drive, start + j)
                 for lane in range(width):
@@ -192,8 +191,8 @@ def record_periods(
                 read_steps(block_y, block_v, lane, count, period, start, steps, dts[lane],
                            ymin, ymax, ext_value, ext_phase, ext_kind, ext_count, history_y,
                            history_v)
-        unpad(y, ys)
-        unpad(v, vs)
+        copy_into(y, ys)
+        copy_into(v, vs)
         mark_failed(y, v, failed_period, first_period + period, limit)
 
 
@@ -334,8 +333,8 @@ def shoot_periods(y, v, dt, p_a, drive, periods, monodromy):
                 ys[lane], vs[lane], m[0, lane], m[1, lane], m[2, lane], m[3, lane] = (
                     rk4_step_tangents(yy, vv, m[0, lane], m[1, lane], m[2, lane], m[3, lane],
                                       dts[lane], f0, fh, f1))
-    unpad(y, ys)
-    unpad(v, vs)
+    copy_into(y, ys)
+    copy_into(v, vs)
     for lane in range(lanes):
         monodromy[lane, 0, 0] = m[0, lane]
         monodromy[lane, 1, 0] = m[1, lane]
@@ -367,9 +366,8 @@ def shoot_jacobian(y, v, dt, p_a, drive, periods, by_force, jacobian):
                 c0, ch, c1 = drive_at_step(drive, k)
                 yy, vv = rk4_step_columns(yy, vv, h, pa, c0, ch, c1, dy, dv, dt_seed, p_a_seed)
         y[lane], v[lane] = yy, vv
-        for col in range(dy.shape[0]):
-            jacobian[lane, 0, col] = dy[col]
-            jacobian[lane, 1, col] = dv[col]
+        copy_into(jacobian[lane, 0], dy)
+        copy_into(jacobian[lane, 1], dv)
 
 
 @numba.njit(cache=True)
@@ -418,9 +416,8 @@ def strobe_periods(y, v, dt, p_a, drive, periods, strobe_y, strobe_v, span, fail
     low = np.empty(lanes)
     high = np.empty(lanes)
     for period in range(periods):
-        for lane in range(lanes):
-            low[lane] = y[lane]
-            high[lane] = y[lane]
+        copy_into(low, y)
+        copy_into(high, y)
         for k in range(steps):
             advance_step(y, v, dt, p_a, drive, k)
             for lane in range(lanes):

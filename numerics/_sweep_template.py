@@ -165,7 +165,8 @@ def _newton(idx, y_start, v_start, p, span, reach, dt, p_a, omega, drive, tol, l
             periods_run[idx[i]] += p
             if not iteration:
                 shot_y[i], shot_v[i] = yp[j], vp[j]
-            _copy_matrix(monodromy[i], m[j])
+            copy_into(monodromy[i, 0], m[j, 0])  # noqa: F821 (the kernels')
+            copy_into(monodromy[i, 1], m[j, 1])  # noqa: F821
             # (M - I) dx = -(Phi(x) - x), by Cramer's rule (_steady._solve_2x2).
             a00, a01 = m[j, 0, 0] - 1.0, m[j, 0, 1]
             a10, a11 = m[j, 1, 0], m[j, 1, 1] - 1.0
@@ -627,24 +628,9 @@ def _steady_states(steps, f_e, p_a, y, v, guess, span, cap, limit, continuation,
     return fl, it, mult, maxima, minima
 
 
-@_inline
-def _copy_matrix(target, source):
-    """target[:, :] = source for 2 x 2 matrices (see ``_copy_into``)."""
-    target[0, 0], target[0, 1] = source[0, 0], source[0, 1]
-    target[1, 0], target[1, 1] = source[1, 0], source[1, 1]
-
-
-@_jit
-def _copy_into(target, source):
-    """target[:] = source, in a loop: numba compiles an array assigned to an array
-    through its broadcasting machinery, for seconds."""
-    for k in range(source.shape[0]):
-        target[k] = source[k]
-
-
 @_jit
 def _scatter(target, index, values):
-    """target[index] = values, in a loop (see ``_copy_into``)."""
+    """target[index] = values, in a loop (see the kernels' ``copy_into``)."""
     for k in range(index.shape[0]):
         target[index[k]] = values[k]
 
@@ -668,9 +654,9 @@ def _merge(lanes, fl, it, mult, maxima, minima, fine_fl, fine_it, fine_mult, fin
         cost = it[lane, I_RUN] + fine_it[lane, I_RUN]
         if (_RANK[fine_it[lane, I_STATUS] + _STATUS_OFFSET]
                 <= _RANK[it[lane, I_STATUS] + _STATUS_OFFSET]):
-            _copy_into(fl[lane], fine_fl[lane])
-            _copy_into(it[lane], fine_it[lane])
-            _copy_into(mult[lane], fine_mult[lane])
+            copy_into(fl[lane], fine_fl[lane])  # noqa: F821 (the kernels')
+            copy_into(it[lane], fine_it[lane])  # noqa: F821
+            copy_into(mult[lane], fine_mult[lane])  # noqa: F821
             maxima[lane], minima[lane] = fine_maxima[lane], fine_minima[lane]
         it[lane, I_RUN] = cost
 
@@ -705,9 +691,9 @@ def sweep_lanes(freq, p_a, steps, cap, limit, y, v, app, period, continued, use_
             limit[:, j].copy(), continued, use_newton, tol, app_rtol, refinements, max_steps,
             length, tables, table_steps, table_offset)
         for lane in range(lanes):
-            _copy_into(fl[lane, j], f_fl[lane])
-            _copy_into(it[lane, j], f_it[lane])
-            _copy_into(mult[lane, j], f_mult[lane])
+            copy_into(fl[lane, j], f_fl[lane])  # noqa: F821 (the kernels')
+            copy_into(it[lane, j], f_it[lane])  # noqa: F821
+            copy_into(mult[lane, j], f_mult[lane])  # noqa: F821
         for lane in range(lanes):
             found_max[lane * points + j], found_min[lane * points + j] = maxima[lane], minima[lane]
             counts[lane, j, 0], counts[lane, j, 1] = maxima[lane].size, minima[lane].size

@@ -73,7 +73,7 @@ _COMPILE_SNIPPET = (
 )
 
 
-#: The route before the kernels copied their arrays in loops (``unpad``) and stepped both
+#: The route before the kernels copied their arrays in loops (``copy_into``) and stepped both
 #: columns of the monodromy matrix from one evaluation of the partials
 #: (``rk4_step_tangents``): the baseline of the compile time and of ``shoot_periods``.
 ROUTE_BEFORE = "035305f"

@@ -160,12 +160,16 @@ class PeriodMap:
 
         return compiled_walk(self.model)
 
-    def newton_settings(self) -> list[float]:
+    def newton_settings(self, contraction: float | None = None,
+                        estimated: bool | None = None) -> list[float]:
         """The corrector's numbers for the compiled walk, in ``_walk_template``'s order:
-        tolerance, iterations, reach, backtracks, contraction, and 1 where the walk's
-        steps stop by ``near_enough`` (0 where not)."""
-        return [NEWTON_TOL, NEWTON_ITERATIONS, _NEWTON_REACH, _BACKTRACKS, _CONTRACTION,
-                float(_ESTIMATED)]
+        tolerance, iterations, reach, backtracks, contraction, and 1 where Newton stops by
+        ``near_enough`` (0 where not); by default (None) those of the walk's steps, read
+        when called (``bench_continuation`` switches _ESTIMATED off)."""
+        contraction = _CONTRACTION if contraction is None else contraction
+        estimated = _ESTIMATED if estimated is None else estimated
+        return [NEWTON_TOL, NEWTON_ITERATIONS, _NEWTON_REACH, _BACKTRACKS, contraction,
+                float(estimated)]
 
     def physical(self, z: np.ndarray) -> tuple[float, float, float]:
         """(y [m], v [m/s], the parameter: f_e [Hz]) of a scaled point."""
@@ -272,9 +276,8 @@ class PeriodMap:
         walker = self.walker
         settings = np.zeros(walker._SETTINGS)
         settings[[walker._TOL, walker._ITERATIONS, walker._REACH, walker._BACKTRACKS,
-                  walker._CONTRACTION, walker._ESTIMATED]] = [
-            NEWTON_TOL, NEWTON_ITERATIONS, _NEWTON_REACH, _BACKTRACKS, contraction,
-            float(estimated)]
+                  walker._CONTRACTION, walker._ESTIMATED]] = self.newton_settings(
+            contraction, estimated)
         z_out, jacobian, monodromy = np.empty(3), np.empty((2, 3)), np.empty((2, 2))
         iterations = walker.correct(
             np.array(z, dtype=float), np.array(row, dtype=float), float(target), self.scale,

@@ -1,7 +1,8 @@
 """Every figure of the report: the scenes' files, and the one no scene draws.
 
 The paper's figures are drawn by their scenes (``paper_checks/scenes``) as they run;
-the work-precision figure is drawn beside its scene (``_scene.run_job``) by
+the work-precision figure is drawn beside its scene (``_scene.run_job``, or
+``_scene.merged_work_precision`` from its parts) by
 ``plot_work_precision``, from its result (matplotlib Agg, no pyplot).
 """
 
@@ -12,7 +13,7 @@ from matplotlib.figure import Figure
 
 from numerics.plots._figure import finish, fixed_layout
 
-from ._scene import CENSUS_SCENES, WORK_PRECISION_FIGURE, PaperScene
+from ._scene import CENSUS_SCENES, WORK_PRECISION_FIGURE, WORK_PRECISION_SCENE, PaperScene
 from ._work_precision import WorkPrecision
 
 __all__ = ["draw_figures", "plot_work_precision", "SCENE_FIGURES"]
@@ -65,13 +66,13 @@ def draw_figures(scene: PaperScene) -> dict[str, str]:
     figures = {}
     # The figure kind `work_precision` has no drawer in numerics.scenes: drawn beside it.
     captions = {**SCENE_FIGURES, "What accuracy costs (work-precision)": (
-        "work-precision.toml", None)}
+        WORK_PRECISION_SCENE, None)}
     for caption, (name, kind) in captions.items():
         file = runs[name].settings["figures"][kind] if kind else WORK_PRECISION_FIGURE
         if file not in runs[name].files:
             raise RuntimeError(f"scene {name} did not write {file} (wrote {runs[name].files})")
         figures[caption] = file
-    scene.timings["figures"] = {"seconds": scene.figure_seconds["work-precision.toml"],
+    scene.timings["figures"] = {"seconds": scene.figure_seconds[WORK_PRECISION_SCENE],
                                 "settings": "1 PNG file (the scenes draw the other "
                                             f"{len(SCENE_FIGURES)})"}
     return figures

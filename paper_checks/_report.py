@@ -107,8 +107,10 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
         # Printed while the workers run: 0.15 s of sympy's printing (its first use
         # here) that would otherwise follow the last of them.
         series = text_report(scene.series)
-        claims = run_claims(scene)
+        # Before the claims: its parts end before the last scenes the claims wait for,
+        # and its figure is drawn here meanwhile.
         work = scene.work_precision
+        claims = run_claims(scene)
         figures = draw_figures(scene)
         scene.check_background()
     elapsed = time.perf_counter() - start

@@ -17,8 +17,9 @@ raised where a result of its scene is asked for. Those that run no RK4
 as does the derivation of the series' formulas (written to the cache on disk, where
 the work-precision study and the comparison find them); or, when the kernels are
 compiled already, in a process forked while this one loads them (``ForkedJobs``). The
-others start when the kernels are loaded. Without ``start`` every scene runs in this
-process when first asked for.
+others start when the kernels are loaded. The work-precision study is three jobs there,
+one per method (``WORK_PARTS``), merged and drawn here. Without ``start`` every scene
+runs in this process when first asked for.
 """
 
 from __future__ import annotations
@@ -61,10 +62,13 @@ SCENES = Path(__file__).parent / "scenes"
 COEXISTENCE_POINTS = PAPER_COEXISTENCE
 #: The scene of each point of COEXISTENCE_POINTS.
 CENSUS_SCENES = {"740 Hz, 0.15Q": "census-740hz.toml", "490 Hz, 0.50Q": "census-490hz.toml"}
-#: Every scene of the report, longest first, as the workers take them: 2.6, 2.2, 1.7,
+#: The scene of the work-precision study.
+WORK_PRECISION_SCENE = "work-precision.toml"
+#: Every scene of the report, longest first, as the workers take them (the work-precision
+#: study in the parts of WORK_PARTS): 2.6, 2.2, 1.7,
 #: 0.5 s, then under 0.3 s each with their figures (2026-11-23, the kernels cached and
 #: no sweep driver built, as in `make paper` run twice in a fresh clone).
-SCENE_FILES = ("comparison.toml", "fig2-fig3.toml", "work-precision.toml", "fig4.toml",
+SCENE_FILES = ("comparison.toml", "fig2-fig3.toml", WORK_PRECISION_SCENE, "fig4.toml",
                *CENSUS_SCENES.values(), "backbone.toml", "fig5.toml")
 #: The scenes that run no RK4: they need no compiled kernels.
 KERNEL_FREE = ("fig4.toml", "backbone.toml")
@@ -82,6 +86,11 @@ QUICK_ORDERS = (2, 4, 6)
 QUICK_STEP_HZ = 10.0
 #: The work-precision figure, drawn from the study's text (no scene draws it).
 WORK_PRECISION_FIGURE = "work-precision.png"
+#: Its methods, each measured in a job of its own when the scenes run in workers, longest
+#: first: DOP853 0.67 s, the series 0.34 s, RK4 0.06 s (measured once by hand, one
+#: process, 2026-11-24). As one job of 1.1 s it was the last to end, after the other
+#: worker had run out of scenes (0.8 s before it, at a load of 0.5).
+WORK_PARTS = ("DOP853", "series", "RK4")
 
 
 def paper_scene(name: str) -> Scene:
@@ -108,12 +117,29 @@ def run_job(scene: Scene, out: Path | None) -> SceneJob:
     run = run_scene(scene, out=out)
     job = SceneJob(run, time.perf_counter() - start)
     if out is not None and scene.study == "work_precision":
-        from ._figures import plot_work_precision
+        _draw_work_precision(job, out)
+    return job
 
-        start = time.perf_counter()
-        plot_work_precision(WorkPrecision.from_text(run.text), out / WORK_PRECISION_FIGURE)
-        job.figure_seconds = time.perf_counter() - start
-        run.files.append(WORK_PRECISION_FIGURE)
+
+def _draw_work_precision(job: SceneJob, out: Path) -> None:
+    """Draw the work-precision figure of ``job`` into ``out``, timed."""
+    from ._figures import plot_work_precision
+
+    start = time.perf_counter()
+    plot_work_precision(WorkPrecision.from_text(job.run.text), out / WORK_PRECISION_FIGURE)
+    job.figure_seconds = time.perf_counter() - start
+    job.run.files.append(WORK_PRECISION_FIGURE)
+
+
+def merged_work_precision(parts: list[SceneJob], scene: Scene, out: Path | None) -> SceneJob:
+    """The work-precision scene ``scene`` as one job, from ``parts`` that measured some
+    of its methods each (its figure drawn into ``out``, when given)."""
+    work = WorkPrecision.merged([WorkPrecision.from_text(part.run.text) for part in parts])
+    run = replace(parts[0].run, text=work.to_text(), files=[], settings=scene.as_dict(),
+                  elapsed_s=sum(part.run.elapsed_s for part in parts))
+    job = SceneJob(run, sum(part.seconds for part in parts))
+    if out is not None:
+        _draw_work_precision(job, out)
     return job
 
 
@@ -162,7 +188,7 @@ class PaperScene:
         self.timings: dict[str, dict] = {}
         self.runs: dict[str, SceneRun] = {}
         self.figure_seconds: dict[str, float] = {}
-        self._started: dict[str, Future] = {}
+        self._started: dict[str, Future | list[Future]] = {}
         #: Tasks whose result nothing asks for (the formulas' derivation): ``check_background``.
         self.background: list[Future] = []
         #: The forked processes of ``start``, joined by ``check_background``.
@@ -174,18 +200,27 @@ class PaperScene:
         self.timings[name] = {"seconds": time.perf_counter() - start, "settings": settings}
         return result
 
-    def variant(self, name: str) -> Scene:
-        """The scene ``name`` as this report runs it (coarser when quick)."""
+    def variant(self, name: str, **options) -> Scene:
+        """The scene ``name`` as this report runs it (coarser when quick), with the study's
+        ``options`` changed."""
         scene = paper_scene(name)
         if not self.quick:
-            return scene
+            return replace(scene, options={**scene.options, **options}) if options else scene
         changes = {"fig2-fig3.toml": {"frequency_hz": self.grid_hz},
                    "backbone.toml": {"options": {"points": QUICK_BACKBONE_POINTS}},
                    "comparison.toml": {"frequency_hz": self.grid_hz,
                                        "options": {"orders": QUICK_ORDERS}},
-                   "work-precision.toml": {"options": {"quick": True}}}.get(name, {})
-        options = {**scene.options, **changes.pop("options", {})}
+                   WORK_PRECISION_SCENE: {"options": {"quick": True}}}.get(name, {})
+        options = {**scene.options, **changes.pop("options", {}), **options}
         return replace(scene, options=options, **changes)
+
+    def _submit(self, executor: Executor, name: str) -> Future | list[Future]:
+        """Hand the scene ``name`` to ``executor``: one job, or the work-precision study's
+        jobs, one per method, writing no file (``merged_work_precision``)."""
+        if name != WORK_PRECISION_SCENE:
+            return executor.submit(run_job, self.variant(name), self.out)
+        return [executor.submit(run_job, self.variant(name, method=method), None)
+                for method in WORK_PARTS]
 
     def start(self, executor: Executor, names: Iterable[str] = SCENE_FILES) -> None:
         """Hand the scenes ``names`` (default: all) to ``executor``, one job each, in the
@@ -219,13 +254,13 @@ class PaperScene:
         # kernels and the formulas go first, to the worker that compiles the least.
         early = [name for name in wanted if name in KERNEL_FREE] if compiled else []
         for name in early:
-            self._started[name] = executor.submit(run_job, self.variant(name), self.out)
-        if compiled and {"work-precision.toml", "comparison.toml"} & set(wanted):
+            self._started[name] = self._submit(executor, name)
+        if compiled and {WORK_PRECISION_SCENE, "comparison.toml"} & set(wanted):
             self.background.append(executor.submit(_derive_formulas))
         for done in compiled:
             done.result()
         for name in [name for name in wanted if name not in early]:
-            self._started[name] = executor.submit(run_job, self.variant(name), self.out)
+            self._started[name] = self._submit(executor, name)
 
     def check_background(self) -> None:
         """Wait for the background tasks; raise the error of one that failed. Join the
@@ -241,8 +276,13 @@ class PaperScene:
         jobs = []
         for name in names:
             started = self._started.pop(name, None)
-            job = (started.result() if started is not None
-                   else run_job(self.variant(name), self.out))
+            if isinstance(started, list):
+                job = merged_work_precision([part.result() for part in started],
+                                            self.variant(name), self.out)
+            elif started is not None:
+                job = started.result()
+            else:
+                job = run_job(self.variant(name), self.out)
             self.runs[name] = job.run
             if job.figure_seconds is not None:
                 self.figure_seconds[name] = job.figure_seconds
@@ -327,7 +367,7 @@ class PaperScene:
         """What accuracy costs (scenes/work-precision.toml); its measurement is the text."""
         run, = self._run("accuracy against time",
                          "scenes/work-precision.toml: every point measured",
-                         "work-precision.toml")
+                         WORK_PRECISION_SCENE)
         return WorkPrecision.from_text(run.text)
 
     @cached_property

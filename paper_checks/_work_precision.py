@@ -22,6 +22,11 @@ call of one order would otherwise build the next two inside its timing. An order
 whose formulas an earlier run left on disk is imported from there, not derived:
 ``derive_cached`` says which, beside ``derive_seconds``.
 
+The methods are measured one after the other, or any of them alone
+(``work_precision(methods=...)``, the study's option ``method``): ``make paper`` measures
+each in a job of its own and merges them (``WorkPrecision.merged``), so that its two
+workers share the study's second of work.
+
 It is also a kind of scene study, ``work_precision`` (``scenes/work-precision.toml``),
 registered here on import. Its ``SceneRun.outcomes`` is empty and its ``text`` is the
 measurement as strict JSON (``WorkPrecision.from_text`` reads it back): the points
@@ -57,6 +62,8 @@ SERIES_ORDERS = tuple(range(9))
 ERROR_ORDERS = 2
 DOP853_RTOL = (1e-3, 1e-5, 1e-7, 1e-9)
 DOP853_PERIODS = 30
+#: The methods measured, in the order of the report (``Method.name``).
+METHODS = ("RK4", "series", "DOP853")
 
 
 @dataclass
@@ -95,6 +102,17 @@ class WorkPrecision:
                              "seconds": numbers(m["seconds"])}) for m in data["methods"]]
         return cls(methods, data["elapsed_s"])
 
+    @classmethod
+    def merged(cls, parts: list["WorkPrecision"]) -> "WorkPrecision":
+        """One measurement from ``parts`` measured apart: their methods in the order of
+        ``METHODS``, and the sum of their times."""
+        methods = [m for part in parts for m in part.methods]
+        names = [m.name for m in methods]
+        if len(set(names)) != len(names) or not set(names) <= set(METHODS):
+            raise ValueError(f"parts must measure distinct methods of {METHODS}, got {names}")
+        return cls(sorted(methods, key=lambda m: METHODS.index(m.name)),
+                   sum(part.elapsed_s for part in parts))
+
 
 def _best_of(function, repeats: int = 3) -> tuple[object, float]:
     best, result = math.inf, None
@@ -105,10 +123,19 @@ def _best_of(function, repeats: int = 3) -> tuple[object, float]:
     return result, best
 
 
-def _rk4(quick: bool):
-    f = np.array([p[1] for p in RK4_POINTS])
-    p_a = np.array([p[0] for p in RK4_POINTS]) * PAPER.Q_n
-    ref = steady_states(f, p_a, steps_per_period=3200, tol=1e-9)
+def _rk4_points() -> tuple[np.ndarray, np.ndarray]:
+    """The frequencies [Hz] and force amplitudes [N] of ``RK4_POINTS``."""
+    return (np.array([p[1] for p in RK4_POINTS]),
+            np.array([p[0] for p in RK4_POINTS]) * PAPER.Q_n)
+
+
+def _reference():
+    """The reference orbits of RK4 and DOP853: RK4 at 3,200 steps per period, tol 1e-9."""
+    return steady_states(*_rk4_points(), steps_per_period=3200, tol=1e-9)
+
+
+def _rk4(quick: bool, ref) -> Method:
+    f, p_a = _rk4_points()
     method = Method("RK4", "steps per period")
     for n in RK4_STEPS[:-2] if quick else RK4_STEPS:
         # The scheme at exactly n steps: no refinement, no step-error estimate.
@@ -118,7 +145,7 @@ def _rk4(quick: bool):
         method.settings.append(n)
         method.errors.append(float(np.max(np.abs(found.app_m / ref.app_m - 1))))
         method.seconds.append(seconds)
-    return method, ref
+    return method
 
 
 def _series(quick: bool) -> Method:
@@ -183,24 +210,34 @@ def _dop853(ref, quick: bool) -> Method:
     return method
 
 
-def work_precision(quick: bool = False) -> WorkPrecision:
-    """Measure every method's error and time, in this run."""
+def work_precision(quick: bool = False, methods=METHODS) -> WorkPrecision:
+    """Measure the error and time of each of ``methods`` (names of ``METHODS``, by
+    default all), in this run and in the order of ``METHODS``."""
+    unknown = set(methods) - set(METHODS)
+    if unknown or not methods:
+        raise ValueError(f"`methods` must name some of {METHODS}, got {methods!r}.")
     start = time.perf_counter()
-    rk4, ref = _rk4(quick)
-    methods = [rk4, _series(quick), _dop853(ref, quick)]
-    return WorkPrecision(methods, time.perf_counter() - start)
+    ref = _reference() if {"RK4", "DOP853"} & set(methods) else None
+    measure = {"RK4": lambda: _rk4(quick, ref), "series": lambda: _series(quick),
+               "DOP853": lambda: _dop853(ref, quick)}
+    measured = [measure[name]() for name in METHODS if name in methods]
+    return WorkPrecision(measured, time.perf_counter() - start)
 
 
 def _run_scene_study(scene, model, frequency_hz, quiet) -> StudyRun:
     """The ``work_precision`` scene study (each method runs its own model and points)."""
-    work = work_precision(quick=scene.options["quick"])
+    method = scene.options["method"]
+    work = work_precision(quick=scene.options["quick"],
+                          methods=METHODS if method == "all" else (method,))
     return StudyRun([], "RK4 steady states by steps per period, the series by order, DOP853 "
                         "by rtol; the measurement is the text, as JSON", text=work.to_text())
 
 
 register_study(
     "work_precision",
-    Study({"quick": Option("bool", False)}, observables=(), default_observables=(),
+    Study({"quick": Option("bool", False),
+           "method": Option("choice", "all", choices=("all", *METHODS))},
+          observables=(), default_observables=(),
           figures=("work_precision",)),
     _run_scene_study,
 )

@@ -236,3 +236,36 @@ def test_importing_the_package_or_its_command_leaves_the_heavy_modules_and_the_g
             "if m in sys.modules]; assert not heavy and gc.isenabled(), heavy; "
             "assert paper_checks.PaperScene.__name__ == 'PaperScene'")
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_the_work_precision_study_measured_in_parts_is_the_study_measured_whole():
+    # `make paper` measures each method in a job of its own (_scene.WORK_PARTS) and
+    # merges them: the same methods in the same order, with the same settings and
+    # errors (the errors are deterministic; the times are not).
+    from paper_checks._work_precision import METHODS, WorkPrecision, work_precision
+
+    whole = work_precision(quick=True)
+    parts = [work_precision(quick=True, methods=(name,)) for name in _scene.WORK_PARTS]
+    merged = WorkPrecision.merged(parts)
+    assert [m.name for m in merged.methods] == [m.name for m in whole.methods] == list(METHODS)
+    for got, want in zip(merged.methods, whole.methods):
+        assert (got.setting, got.settings, got.errors) == (want.setting, want.settings,
+                                                           want.errors), got.name
+    assert merged.elapsed_s == sum(part.elapsed_s for part in parts)
+    with pytest.raises(ValueError, match="distinct methods"):
+        WorkPrecision.merged(parts[:1] * 2)
+    with pytest.raises(ValueError, match="`methods`"):
+        work_precision(quick=True, methods=("Euler",))
+
+
+def test_the_report_merges_the_work_precision_parts_the_workers_measured(tmp_path):
+    scene = PaperScene(quick=True, out=tmp_path)
+    with worker_pool(2) as pool:
+        scene.start(pool, names=[_scene.WORK_PRECISION_SCENE])
+        assert len(scene._started[_scene.WORK_PRECISION_SCENE]) == len(_scene.WORK_PARTS)
+        work = scene.work_precision
+    run = scene.runs[_scene.WORK_PRECISION_SCENE]
+    assert [m.name for m in work.methods] == ["RK4", "series", "DOP853"]
+    assert run.settings["options"]["method"] == "all"
+    assert run.files == [_scene.WORK_PRECISION_FIGURE]
+    assert (tmp_path / _scene.WORK_PRECISION_FIGURE).stat().st_size > 10_000

@@ -257,7 +257,8 @@ def test_lanes_walked_in_threads_give_the_points_of_one_walk(monkeypatch):
     # Groups of lanes walked at once, each in a thread: a lane's arithmetic is its own
     # (each iterates Newton until it converges itself), so the points are those of one
     # walk of all lanes, to the last bit and in the same order. Three groups of four
-    # lanes: two of one lane, one of two (lanes 0 and 3). The progress bar hears every
+    # lanes: two of one lane, one of two (lanes 2 and 3, dealt back and forth). The
+    # progress bar hears every
     # point once, when every group has passed it.
     from numerics import _sweep_compiled
 

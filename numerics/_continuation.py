@@ -325,7 +325,7 @@ def continue_orbits(
     engine : {"auto", "compiled", "python"}
         The walk's steps (predictor, Newton, step control) in compiled code, handing
         back to Python only where a bifurcation is located or the band ends ("auto", the
-        default, and "compiled": built once per model, some 15 s), or step by step in
+        default, and "compiled": built once per model, some 5 s), or step by step in
         Python (the reference). Both walk the same branch, to Newton's tolerance, but
         where the map's corners crowd (loss of contact) a round-off can end a walk at
         another corner.

@@ -9,6 +9,7 @@ Issue 13's goal: under 0.5 s once compiled. Baselines, measured in the same run:
 - the walk as before Newton's stop by estimate and the steps past ds_max on large
   orbits (emulated through ``_continuation_map._ESTIMATED`` and
   ``_continuation._SIZE_CEILING``), in time, evaluations of R and points;
+- the time numba takes to compile the walk (``_walk_template``), its cache bypassed;
 - continuation packages from the package index, pycont-lite and contique, driving
   ``continue_orbits``' own shooting residual from the same start points over the same
   band (``_pycont``): their time, residual calls, the points they reached and how far
@@ -73,6 +74,7 @@ def main() -> None:
         sum(b.frequency_hz.size for b in run.branches),
         sum(b.frequency_hz.size for b in _as_before_estimates(_continue).branches),
         higher_is_better=False)
+    row("compiling the walk (numba, its cache bypassed) [s]", _walk_compile_seconds(), unit="s")
     patient = interleaved_medians(_continue, lambda: _patiently(_continue), repeats=5)
     row("continue_orbits [s] vs no contraction test, no stall hand-over (emulated) [s]",
         *patient, "s", higher_is_better=False)
@@ -141,6 +143,29 @@ def _as_before_estimates(function):
         return function()
     finally:
         _continuation_map._ESTIMATED, _continuation._SIZE_CEILING = before
+
+
+def _walk_compile_seconds() -> float:
+    """The seconds numba takes to compile the paper model's walk (the text that
+    ``_walk_codegen`` generates, with numba's cache off, loaded from a scratch folder)
+    and run its smoke test: the first continuation's wait for the walk."""
+    import importlib.util
+    import tempfile
+    import time
+    from pathlib import Path
+
+    from numerics import _walk_codegen
+
+    source = _walk_codegen._source(compiled_kernels(ContactModel()))
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "walk_bench.py"
+        path.write_text(source.replace("cache=True", "cache=False"))
+        spec = importlib.util.spec_from_file_location("walk_bench", path)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        start = time.perf_counter()
+        _walk_codegen._smoke(module)
+        return time.perf_counter() - start
 
 
 def _evaluation_routes(steps: int) -> tuple[float, float]:

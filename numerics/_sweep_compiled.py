@@ -55,18 +55,20 @@ def walk_threads(lanes: int, least: int) -> int:
     return max(1, min(processors(), lanes // least))
 
 
-def dealt(lanes: int, count: int) -> list[np.ndarray]:
+def deal_lanes(lanes: int, count: int) -> list[np.ndarray]:
     """The lanes 0..``lanes``-1 dealt to ``count`` groups back and forth (0, 1, ..., c-1,
     then c-1, ..., 0, and again), each group's in increasing order.
 
-    Neighbouring lanes go to different groups and each pair of neighbours splits, so
-    that alike loads spread: ``sweep()`` lays a sweep up and its sweep down side by
-    side, and on the Fig. 2 + 3 job the ten down sweeps took 2.2 times the RK4 steps of
-    the ten up (8.3e6 against 3.7e6 lane-steps, measured once by hand, 2026-11-24):
-    dealt one group each way (every second lane), one thread waited 0.082 s and the other
-    0.053 s; dealt back and forth, 0.074 s and 0.068 s (medians of 7 and 9).
+    Each group takes one lane of every round of ``count`` lanes, from alternate ends, so
+    that alike loads spread: ``sweep()`` lays each amplitude's sweep up and sweep down
+    side by side, and each group gets up and down sweeps in near-equal numbers (for an
+    even count, every such pair is split). On the Fig. 2 + 3 job the ten down sweeps took
+    2.2 times the RK4 steps of the ten up (8.3e6 against 3.7e6 lane-steps): dealt round
+    robin (every second lane), one thread took 0.082 s and the other 0.053 s; back and
+    forth, 0.074 s and 0.068 s (medians of 7 and 9 runs; measured once by hand,
+    2026-11-24).
 
-    >>> [group.tolist() for group in dealt(7, 2)]
+    >>> [group.tolist() for group in deal_lanes(7, 2)]
     [[0, 3, 4], [1, 2, 5, 6]]
     """
     order = np.arange(lanes)
@@ -116,7 +118,7 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
                 table_offset)
     count = (walk_threads(lanes, kernels.VECTOR_LANES) if threads is None
              else check_int("threads", threads, minimum=1))
-    groups = dealt(lanes, count)
+    groups = deal_lanes(lanes, count)
 
     def walk(group: np.ndarray, report, stop: threading.Event) -> Orbits:
         seed = [np.ascontiguousarray(a[group]) for a in (y, v, app, period)]

@@ -107,8 +107,8 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
         # Printed while the workers run: 0.15 s of sympy's printing (its first use
         # here) that would otherwise follow the last of them.
         series = text_report(scene.series)
-        # Before the claims: its parts end before the last scenes the claims wait for,
-        # and its figure is drawn here meanwhile.
+        # Before the claims: with workers, its parts end before the last scenes the claims
+        # wait for, and its figure is drawn here meanwhile.
         work = scene.work_precision
         claims = run_claims(scene)
         figures = draw_figures(scene)

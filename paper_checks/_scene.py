@@ -10,7 +10,8 @@ coarser grids (for the tests), in variants of the scenes made by
 ``dataclasses.replace``.
 
 The scenes are independent: ``PaperScene.start(executor)`` hands them all to worker
-processes (``worker_pool``), one job per scene, longest first, each drawing its own
+processes (``worker_pool``), one job per scene (the work-precision study: one per
+method of ``WORK_PARTS``, see ``_submit``), longest first, each drawing its own
 figures there, and the properties then wait for theirs; an error in a worker is
 raised where a result of its scene is asked for. Those that run no RK4
 (``KERNEL_FREE``) start at once: beside the compilation of the kernels, in the workers,
@@ -51,7 +52,7 @@ from perturb import (
 )
 
 from ._forked import ForkedJobs, forks
-from ._work_precision import ERROR_ORDERS, SERIES_ORDERS, WorkPrecision
+from ._work_precision import ERROR_ORDERS, METHODS, SERIES_ORDERS, WorkPrecision
 
 __all__ = ["PaperScene", "COEXISTENCE_POINTS", "SCENES", "CENSUS_SCENES", "SCENE_FILES",
            "KERNEL_FREE", "paper_scene", "worker_pool"]
@@ -64,10 +65,11 @@ COEXISTENCE_POINTS = PAPER_COEXISTENCE
 CENSUS_SCENES = {"740 Hz, 0.15Q": "census-740hz.toml", "490 Hz, 0.50Q": "census-490hz.toml"}
 #: The scene of the work-precision study.
 WORK_PRECISION_SCENE = "work-precision.toml"
-#: Every scene of the report, longest first, as the workers take them (the work-precision
-#: study in the parts of WORK_PARTS): 2.6, 2.2, 1.7,
-#: 0.5 s, then under 0.3 s each with their figures (2026-11-23, the kernels cached and
-#: no sweep driver built, as in `make paper` run twice in a fresh clone).
+#: Every scene of the report, longest first, as the workers take them: the comparison
+#: 2.6 s, Fig. 2 + 3 2.2 s, the work-precision study (in the parts of WORK_PARTS), Fig. 4
+#: 0.5 s, then under 0.3 s each with their figures (measured once by hand, 2026-11-23,
+#: the kernels cached and no sweep driver built, as in `make paper` run twice in a
+#: fresh clone).
 SCENE_FILES = ("comparison.toml", "fig2-fig3.toml", WORK_PRECISION_SCENE, "fig4.toml",
                *CENSUS_SCENES.values(), "backbone.toml", "fig5.toml")
 #: The scenes that run no RK4: they need no compiled kernels.
@@ -87,9 +89,10 @@ QUICK_STEP_HZ = 10.0
 #: The work-precision figure, drawn from the study's text (no scene draws it).
 WORK_PRECISION_FIGURE = "work-precision.png"
 #: Its methods, each measured in a job of its own when the scenes run in workers, longest
-#: first: DOP853 0.67 s, the series 0.34 s, RK4 0.06 s (measured once by hand, one
-#: process, 2026-11-24). As one job of 1.1 s it was the last to end, after the other
-#: worker had run out of scenes (0.8 s before it, at a load of 0.5).
+#: first: DOP853 0.67 s, the series 0.34 s, RK4 0.06 s, of which 0.045 s is the reference
+#: orbit that the DOP853 job computes too. As one job of 1.1 s the study was the last to
+#: end, after the other worker had run out of scenes (0.8 s before it, at a load of
+#: 0.5). Measured once by hand, 2026-11-24.
 WORK_PARTS = ("DOP853", "series", "RK4")
 
 
@@ -135,6 +138,10 @@ def merged_work_precision(parts: list[SceneJob], scene: Scene, out: Path | None)
     """The work-precision scene ``scene`` as one job, from ``parts`` that measured some
     of its methods each (its figure drawn into ``out``, when given)."""
     work = WorkPrecision.merged([WorkPrecision.from_text(part.run.text) for part in parts])
+    wanted = METHODS if scene.options["method"] == "all" else (scene.options["method"],)
+    if [m.name for m in work.methods] != list(wanted):
+        raise ValueError(f"the parts measured {[m.name for m in work.methods]}, "
+                         f"the scene asks for {list(wanted)}")
     run = replace(parts[0].run, text=work.to_text(), files=[], settings=scene.as_dict(),
                   elapsed_s=sum(part.run.elapsed_s for part in parts))
     job = SceneJob(run, sum(part.seconds for part in parts))
@@ -204,13 +211,14 @@ class PaperScene:
         """The scene ``name`` as this report runs it (coarser when quick), with the study's
         ``options`` changed."""
         scene = paper_scene(name)
-        if not self.quick:
-            return replace(scene, options={**scene.options, **options}) if options else scene
-        changes = {"fig2-fig3.toml": {"frequency_hz": self.grid_hz},
-                   "backbone.toml": {"options": {"points": QUICK_BACKBONE_POINTS}},
-                   "comparison.toml": {"frequency_hz": self.grid_hz,
-                                       "options": {"orders": QUICK_ORDERS}},
-                   WORK_PRECISION_SCENE: {"options": {"quick": True}}}.get(name, {})
+        quick = {"fig2-fig3.toml": {"frequency_hz": self.grid_hz},
+                 "backbone.toml": {"options": {"points": QUICK_BACKBONE_POINTS}},
+                 "comparison.toml": {"frequency_hz": self.grid_hz,
+                                     "options": {"orders": QUICK_ORDERS}},
+                 WORK_PRECISION_SCENE: {"options": {"quick": True}}}
+        changes = quick.get(name, {}) if self.quick else {}
+        if not changes and not options:
+            return scene
         options = {**scene.options, **changes.pop("options", {}), **options}
         return replace(scene, options=options, **changes)
 
@@ -223,8 +231,8 @@ class PaperScene:
                 for method in WORK_PARTS]
 
     def start(self, executor: Executor, names: Iterable[str] = SCENE_FILES) -> None:
-        """Hand the scenes ``names`` (default: all) to ``executor``, one job each, in the
-        order of ``SCENE_FILES``.
+        """Hand the scenes ``names`` (default: all) to ``executor``, one job each (the
+        work-precision study: one per method, ``_submit``), in the order of ``SCENE_FILES``.
 
         The kernels the scenes share are compiled first, each by one worker at once
         (with an empty cache, every worker would otherwise compile each of them); the
@@ -365,9 +373,11 @@ class PaperScene:
     @cached_property
     def work_precision(self) -> WorkPrecision:
         """What accuracy costs (scenes/work-precision.toml); its measurement is the text."""
+        parts = isinstance(self._started.get(WORK_PRECISION_SCENE), list)
         run, = self._run("accuracy against time",
-                         "scenes/work-precision.toml: every point measured",
-                         WORK_PRECISION_SCENE)
+                         "scenes/work-precision.toml: every point measured"
+                         + (f"; {len(WORK_PARTS)} jobs at once, one per method, their times "
+                            "summed" if parts else ""), WORK_PRECISION_SCENE)
         return WorkPrecision.from_text(run.text)
 
     @cached_property

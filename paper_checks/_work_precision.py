@@ -1,6 +1,7 @@
 """What accuracy costs: RK4 steps, series order and DOP853 tolerance against error and time.
 
-Every point is measured in one run. Errors are the largest relative App error
+Every point is measured in one run of the command (under ``make paper``, each method in
+a worker process of its own). Errors are the largest relative App error
 over a few (P_a, f_e) points:
 
 - RK4 (full model, steady states by shooting from the reference orbit) against
@@ -13,7 +14,8 @@ over a few (P_a, f_e) points:
   of y = 0; 30 periods from the reference orbit, App of the last period from its
   dense output) against the same reference as RK4, down to rtol 1e-9: below it the
   error is the reference's own (at rtol 1e-11 it measured 4.4e-9 against 5.1e-9 at
-  1e-9, 2026-11-23), and that point alone took 0.42 s of the study's 3.7 s.
+  1e-9, 2026-11-23, measured once by hand), and that point alone took 0.42 s of the
+  study's 3.7 s in that run.
 
 Each order of the series is derived and compiled (``compile_series``) before any is
 timed, in increasing order, each order's time measured alone: the numpy route of
@@ -24,8 +26,8 @@ whose formulas an earlier run left on disk is imported from there, not derived:
 
 The methods are measured one after the other, or any of them alone
 (``work_precision(methods=...)``, the study's option ``method``): ``make paper`` measures
-each in a job of its own and merges them (``WorkPrecision.merged``), so that its two
-workers share the study's second of work.
+each in a job of its own and merges them (``WorkPrecision.merged``), so that its
+workers share the study's work (about 1.1 s).
 
 It is also a kind of scene study, ``work_precision`` (``scenes/work-precision.toml``),
 registered here on import. Its ``SceneRun.outcomes`` is empty and its ``text`` is the

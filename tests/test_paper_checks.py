@@ -269,3 +269,20 @@ def test_the_report_merges_the_work_precision_parts_the_workers_measured(tmp_pat
     assert run.settings["options"]["method"] == "all"
     assert run.files == [_scene.WORK_PRECISION_FIGURE]
     assert (tmp_path / _scene.WORK_PRECISION_FIGURE).stat().st_size > 10_000
+
+
+def test_a_work_precision_part_that_fails_raises_where_the_study_is_asked_for(
+        tmp_path, monkeypatch):
+    from paper_checks import _work_precision
+
+    def broken(quick):
+        raise RuntimeError("the series part broke")
+
+    monkeypatch.setattr(_work_precision, "_series", broken)  # the forked workers too
+    scene = PaperScene(quick=True, out=tmp_path)
+    with worker_pool(2) as pool:
+        scene.start(pool, names=[_scene.WORK_PRECISION_SCENE])
+        with pytest.raises(RuntimeError, match="the series part broke"):
+            assert scene.work_precision is None  # never reached: the property raises
+    assert "accuracy against time" not in scene.timings
+    assert not (tmp_path / _scene.WORK_PRECISION_FIGURE).exists()

@@ -256,24 +256,44 @@ def test_a_walk_cut_into_one_point_blocks_matches_the_python_sweep(monkeypatch):
 def test_lanes_walked_in_threads_give_the_points_of_one_walk(monkeypatch):
     # Groups of lanes walked at once, each in a thread: a lane's arithmetic is its own
     # (each iterates Newton until it converges itself), so the points are those of one
-    # walk of all lanes, to the last bit and in the same order. Three groups of four
-    # lanes: two of one lane, one of two (lanes 2 and 3, dealt back and forth). The
-    # progress bar hears every
-    # point once, when every group has passed it.
+    # walk of all lanes, to the last bit and in the same order. The lanes as sweep()
+    # lays them out, each amplitude's sweep up beside its sweep down; two groups of
+    # two lanes (0, 3 and 1, 2: dealt back and forth), and three groups, two of one lane
+    # and one of two (lanes 2 and 3). The progress bar hears every point once, when
+    # every group has passed it.
     from numerics import _sweep_compiled
 
     freq = np.tile(np.linspace(900.0, 1500.0, 13), (4, 1))
-    freq[2:] = freq[2:, ::-1]  # two lanes up, two down, as sweep() lays them out
-    p_a = np.array([0.1, 0.4, 0.1, 0.4]) * PAPER.Q_n
+    freq[1::2] = freq[1::2, ::-1]  # up, down, up, down
+    p_a = np.array([0.1, 0.1, 0.4, 0.4]) * PAPER.Q_n
     walked = {}
-    for threads in (1, 3):
+    for threads in (1, 2, 3):
         done = []
         walked[threads] = _sweep_compiled.sweep_lanes_compiled(
             freq, p_a, ContactModel(), done=done.append, threads=threads, **ACCURACY)
         assert sum(done) == freq.shape[1], done
+    assert_same_points(walked[2], walked[1])
     assert_same_points(walked[3], walked[1])
     assert (walked[1].frequency_hz.reshape(13, 4) == freq.T).all()  # point after point
     assert walked[1].status.size == 52 and set(walked[1].method) >= {"newton"}
+
+
+@pytest.mark.parametrize("lanes", [0, 1, 2, 3, 7, 20, 24])
+@pytest.mark.parametrize("count", [1, 2, 3, 5])
+def test_lanes_are_dealt_each_once_in_order_and_evenly(lanes, count):
+    from numerics._sweep_compiled import deal_lanes
+
+    groups = deal_lanes(lanes, count)
+    assert len(groups) == count
+    assert sorted(np.concatenate(groups).tolist()) == list(range(lanes))  # each once
+    assert all((np.diff(group) > 0).all() for group in groups)  # in increasing order
+    sizes = [group.size for group in groups]
+    assert max(sizes) - min(sizes) <= 1
+    # sweep() lays out sweeps up (even lanes) and down (odd lanes): each group gets as
+    # many of one as of the other, give or take one (every second lane, round robin,
+    # gave two groups all the ups and all the downs).
+    assert all(abs(int((group % 2 == 0).sum() - (group % 2 == 1).sum())) <= 1
+               for group in groups)
 
 
 def test_a_driver_removed_by_another_process_is_seen_as_not_built(tmp_path, monkeypatch):

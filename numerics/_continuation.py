@@ -15,7 +15,9 @@ of the simulator's RK4 map at N fixed steps per period (``_continuation_map``).
   ds_max, or on a large orbit where the branch runs straight, up to ds_max times the
   orbit's size (``largest_step``); it shrinks by 2 on a failed Newton, and by the share
   of ``max_angle`` over the turn (by 2 at least) whenever consecutive tangents differ
-  by more than ``max_angle``, so that no fold is stepped across unseen. A step below
+  by more than ``max_angle``, so that no fold is stepped across unseen; over a step
+  shorter than a corner's (``corner_step``: longer on a large orbit) such a turn is
+  taken for a corner of the map and the step accepted. A step below
   ``_STALL_DS`` hands over to a step in f alone first (a corner where the branch turns
   back), and only then shrinks on.
 - Stability: the Floquet multipliers, eigenvalues of the monodromy matrix; an orbit
@@ -59,10 +61,10 @@ DEFAULTS = {"steps_per_period": "auto", "ds_max": 0.02, "max_angle": 0.1, "max_p
 #: The least N of "auto": the map's corners (a step's stage crossing y = 0) grow with the
 #: step; at 0.15 Q, N = 128 shows zigzags of f by 0.27 Hz on the bouncing middle branch
 #: (taken for folds) and stops at 398 Hz, N = 512 none and reaches 355 Hz (352.55 Hz with
-#: the contraction test and the steps past ds_max).
+#: the contraction test and the steps past ds_max, 352.33 Hz with ``corner_step``).
 _AUTO_MIN_STEPS = 512
 #: "auto" doubles N, up to this, while a walk stops inside the band at a corner: at 0.15 Q
-#: the walk up stops near the bouncing fold (352.55 Hz) at 512 steps, and the branch passes
+#: the walk up stops near the bouncing fold (352.33 Hz) at 512 steps, and the branch passes
 #: it (the fold at 352.4 Hz, where a 1024-step sweep jumps) at 1024.
 _AUTO_MAX_STEPS = 2048
 #: How the message of a walk that stopped at a corner begins.
@@ -95,7 +97,26 @@ _TURN_SHARE = 0.9
 #: of contact): the step is accepted. A fold within it is still seen (f turns). At
 #: 0.15 Q, N = 1024, 1e-4 took 6528 points (3298 steps below 5e-3, in the bouncing
 #: fold's zigzag), 1e-3 takes 4896 (2026-11-23, when every fold met was located and kept).
+#: On a large orbit the corner's step is longer, as its largest step is
+#: (``corner_step``).
 _CORNER_DS = 1e-3
+#: ``corner_step``: _CORNER_DS times the orbit's size |(y, v)| in z over _SIZE_REFERENCE,
+#: between 1 and this (as ``largest_step`` grows the largest step). The map's corners
+#: turn the tangent by as much however short the step, and they crowd on bouncing
+#: orbits: at 0.15 Q, N = 1024, some 70 % of the walk's evaluations of R were spent
+#: within 350-370 Hz, where 95 % of the points are orbits of |(y, v)| 26 to 28, and 26 %
+#: in the runs of ever shorter steps that creep towards a corner where the branch turns
+#: back (2026-11-24, Python walk, measured once by hand). With the corner's step grown
+#: there, measured by hand (2026-11-24, Python walk, _DS_START varied by 1e-9 relative
+#: ten times, evaluations of R at N = 512 weighted by a half): at 0.15 Q 8,609 against
+#: 11,364 (mean), every walk through the bouncing fold at N = 1024 with the same two
+#: folds; at 0.13 Q 2,109 against 2,816, the same two folds (the bouncing one 0.03 Hz
+#: away, within its 0.15 Hz). The same day, by hand: the sweeps' states lie as near the
+#: branch as before (0.153 % and 0.123 % at 0.15 Q; 0.336 % at 0.05 Q, where no orbit is
+#: that large); a flat _CORNER_DS of 3e-3 instead ended every such walk at N = 1024 at a
+#: corner (walked again at 2048), and one of 6e-3 left the sweep's states at 0.05 Q
+#: 0.526 % off the branch.
+_CORNER_CEILING = 20.0
 #: Where the branch runs straight (its tangent turned by at most _STRAIGHT rad over the
 #: step), the next step may grow past ds_max in proportion to the orbit's size |(y, v)| in
 #: z over _SIZE_REFERENCE, up to _SIZE_CEILING ds_max (``largest_step``). An orbit in
@@ -410,8 +431,21 @@ def largest_step(z: np.ndarray, angle: float, ds_max: float) -> float:
     contact."""
     if angle > _STRAIGHT:
         return ds_max
+    return ds_max * orbit_scale(z, _SIZE_CEILING)
+
+
+def corner_step(z: np.ndarray) -> float:
+    """The step from a point ``z`` below which a tangent that turns by more than
+    max_angle is taken to turn at a corner of the map: ``_CORNER_DS``, times the orbit's
+    size over ``_SIZE_REFERENCE`` on a large orbit, up to ``_CORNER_CEILING`` times."""
+    return _CORNER_DS * orbit_scale(z, _CORNER_CEILING)
+
+
+def orbit_scale(z: np.ndarray, ceiling: float) -> float:
+    """The orbit's size |(y, v)| in z over ``_SIZE_REFERENCE``, between 1 and
+    ``ceiling``: how much longer a step may be on it than on an orbit in contact."""
     size = math.sqrt(z[0] * z[0] + z[1] * z[1]) / _SIZE_REFERENCE
-    return ds_max * min(max(1.0, size), _SIZE_CEILING)
+    return min(max(1.0, size), ceiling)
 
 
 def count_kinds(bifurcations: list[Bifurcation]) -> str:
@@ -591,7 +625,7 @@ class _Walk:
         self.settings = np.array([_DS_MIN, ds_max, max_angle, _GROW, _SHRINK, _CORNER_DS,
                                   _EASY_ITERATIONS, _STALL_DS, *shoot.newton_settings(),
                                   self.f_lo, self.f_hi, _TURN_SHARE, _STRAIGHT,
-                                  _SIZE_REFERENCE, _SIZE_CEILING])
+                                  _SIZE_REFERENCE, _SIZE_CEILING, _CORNER_CEILING])
 
     def end(self, status: Status, message: str) -> None:
         self.status, self.message = status, message
@@ -720,6 +754,7 @@ class _Walk:
         _DS_MIN)."""
         z, t = self.points[-1].z, self.tangents[-1]
         least = _STALL_DS if ds >= _STALL_DS else _DS_MIN
+        corner = corner_step(z)
         while ds >= least:
             point = self.shoot.correct_step(z + ds * t, t, t @ z + ds)
             t_new = None if point is None else point.tangent(t, self.orientation)
@@ -729,13 +764,13 @@ class _Walk:
                 angle = np.arccos(np.clip(t_new @ t, -1.0, 1.0))
                 if angle <= self.max_angle:
                     self.resume = None
-                    # An easy step grows the next; so does a step shorter than a corner
-                    # (Newton may stay slow near one however short the step).
+                    # An easy step grows the next; so does a step shorter than _CORNER_DS
+                    # (Newton may stay slow near a corner however short the step).
                     grow = point.iterations <= _EASY_ITERATIONS or ds < _CORNER_DS
                     ds = min(ds * _GROW if grow else ds,
                              largest_step(point.z, angle, self.ds_max))
                     return (point, t_new, ds), ds
-                if ds < _CORNER_DS:
+                if ds < corner:
                     # The tangent turns as much over a step this short: a corner of the
                     # piecewise smooth map (a stage of a step crossing y = 0, Eq. 2.1),
                     # not a fold; walk on with the step taken before the corner.
@@ -787,7 +822,7 @@ class _Walk:
         branch; the others (turns of a zigzag over the map's corners, dropped there)
         are only marked at the step's end, as one Brent's method cannot locate.
 
-        At 0.15 Q, N = 1024, the walk meets 68 folds, nearly all of them turns of the
+        At 0.15 Q, N = 1024, the walk meets 64 folds, nearly all of them turns of the
         zigzag about the bouncing fold, and locates 2 (``bench_continuation`` times
         the call against one that locates every fold met).
         """
@@ -1001,7 +1036,7 @@ def _zigzags(f: np.ndarray, turn: int) -> bool:
 
     Near a fold of a bouncing orbit the fixed-step map's corners make f zigzag: the
     branch turns back and forth, each turn a fold of the discrete map (at 0.15 Q,
-    N = 1024, f turns some 50 times within 352.36-353.34 Hz). Turns closer than
+    N = 1024, f turns some 50 times within 352.36-353.49 Hz). Turns closer than
     ``_FOLD_PROMINENCE`` are not told apart as folds, and which of them a walk locates
     depends on its steps: such a fold is known to that resolution, not to Brent's.
     """
@@ -1054,7 +1089,7 @@ def _monodromies(shoot: PeriodMap, y, v, f, p_a) -> np.ndarray:
     (``tests/test_series_stability.py``) the multipliers at the points differ by 2.7e-11
     at most (0.05 Q; 6.3e-13 at 0.3 Q, 650-850 Hz), those of the walk's points by up to
     3.3e-9 (0.3 Q, 650-850 Hz), and before ``near_enough`` by 1.8e-10 (0.05 Q) and
-    1.9e-11 (0.3 Q). At 0.15 Q (2493 points, N = 1024) the call takes 10 ms."""
+    1.9e-11 (0.3 Q). At 0.15 Q (2493 points then, N = 1024) the call took 10 ms."""
     monodromy = np.empty((f.size, 2, 2))
     if f.size:
         shoot.kernels.shoot_periods(y.copy(), v.copy(), 1.0 / (shoot.steps * f), p_a,

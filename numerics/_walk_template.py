@@ -23,11 +23,13 @@ import numpy as np
 # fmt: off
 # Indices into `settings`: the walk's numbers (filled by _continuation._Walk), then the
 # corrector's (PeriodMap.newton_settings), then the band's ends in z and the walk's
-# _TURN_SHARE, _STRAIGHT, _SIZE_REFERENCE and _SIZE_CEILING; _SETTINGS of them.
+# _TURN_SHARE, _STRAIGHT, _SIZE_REFERENCE, _SIZE_CEILING and _CORNER_CEILING; _SETTINGS
+# of them.
 _DS_MIN, _DS_MAX, _MAX_ANGLE, _GROW, _SHRINK, _CORNER_DS, _EASY, _STALL = 0, 1, 2, 3, 4, 5, 6, 7
 _TOL, _ITERATIONS, _REACH, _BACKTRACKS, _CONTRACTION, _ESTIMATED = 8, 9, 10, 11, 12, 13
 _F_LO, _F_HI, _TURN_SHARE, _STRAIGHT, _SIZE_REFERENCE, _SIZE_CEILING = 14, 15, 16, 17, 18, 19
-_SETTINGS = 20
+_CORNER_CEILING = 20
+_SETTINGS = 21
 # What walk_steps returns: the step failed (ds below its least), a step for Python to
 # finish (at index `kept` of the outputs), or the outputs are full.
 WALK_FAILED, WALK_PENDING, WALK_FULL = 0, 1, 2
@@ -108,8 +110,15 @@ def largest_step(z, angle, settings):
     _SIZE_CEILING."""
     if angle > settings[_STRAIGHT]:
         return settings[_DS_MAX]
+    return settings[_DS_MAX] * orbit_scale(z, settings[_SIZE_CEILING], settings)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def orbit_scale(z, ceiling, settings):
+    """``_continuation.orbit_scale``: the orbit's size |(y, v)| in z over
+    _SIZE_REFERENCE, between 1 and ``ceiling``."""
     size = math.sqrt(z[0] * z[0] + z[1] * z[1]) / settings[_SIZE_REFERENCE]
-    return settings[_DS_MAX] * min(max(1.0, size), settings[_SIZE_CEILING])
+    return min(max(1.0, size), ceiling)
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -238,6 +247,8 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
         # A step that began above the stall's ds hands back below it (Python tries a
         # step in f alone); one that began below it shrinks to the least ds.
         least = settings[_STALL] if ds >= settings[_STALL] else settings[_DS_MIN]
+        # ``_continuation.corner_step``: below it a turn is a corner's.
+        corner = settings[_CORNER_DS] * orbit_scale(z, settings[_CORNER_CEILING], settings)
         while ds >= least:
             for i in range(3):
                 guess[i] = z[i] + ds * t[i]
@@ -257,7 +268,7 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
                                   largest_step(z_new, angle, settings))
                     accepted = True
                     break
-                if ds < settings[_CORNER_DS]:
+                if ds < corner:
                     # A corner of the map, not a fold: on with the step from before it.
                     next_ds = resume if resume > 0.0 else ds
                     resume = -1.0

@@ -9,6 +9,8 @@ Issue 13's goal: under 0.5 s once compiled. Baselines, measured in the same run:
 - the walk as before Newton's stop by estimate and the steps past ds_max on large
   orbits (emulated through ``_continuation_map._ESTIMATED`` and
   ``_continuation._SIZE_CEILING``), in time, evaluations of R and points;
+- the walk as before the corner's step grew with the orbit's size (emulated through
+  ``_continuation._CORNER_CEILING``), in time, evaluations of R and points;
 - the time numba takes to compile the walk (``_walk_template``), its cache bypassed;
 - continuation packages from the package index, pycont-lite and contique, driving
   ``continue_orbits``' own shooting residual from the same start points over the same
@@ -63,17 +65,8 @@ def main() -> None:
     every = interleaved_medians(_continue, _continue_locating_every_fold, repeats=5)
     row("continue_orbits [s] vs locating every fold met (the route before, emulated) [s]", *every,
         "s", higher_is_better=False)
-    before = interleaved_medians(_continue, lambda: _as_before_estimates(_continue), repeats=5)
-    row("continue_orbits [s] vs Newton's exact stop, no step past ds_max (the route "
-        "before, emulated) [s]", *before, "s", higher_is_better=False)
-    row("R evaluations of the Python walk: now vs that route before",
-        residual_calls(_continue_in_python),
-        residual_calls(lambda: _as_before_estimates(_continue_in_python)),
-        higher_is_better=False)
-    row("points on the branches: now vs that route before",
-        sum(b.frequency_hz.size for b in run.branches),
-        sum(b.frequency_hz.size for b in _as_before_estimates(_continue).branches),
-        higher_is_better=False)
+    _route_rows(run, "Newton's exact stop, no step past ds_max", _as_before_estimates)
+    _route_rows(run, "the corner's step _CORNER_DS on every orbit", _corners_as_before)
     row("compiling the walk (numba, its cache bypassed) [s]", _walk_compile_seconds(), unit="s")
     patient = interleaved_medians(_continue, lambda: _patiently(_continue), repeats=5)
     row("continue_orbits [s] vs no contraction test, no stall hand-over (emulated) [s]",
@@ -101,6 +94,21 @@ def main() -> None:
         print(f"  {mark.kind} at {mark.frequency_hz:.4f} Hz, App {mark.app_m * 1e9:.2f} nm, "
               f"{mark.precision()}")
     _beside_packages(run)
+
+
+def _route_rows(run, route: str, emulated) -> None:
+    """The rows of one route before, ``emulated(function)`` running ``function`` as it
+    was: time, the Python walk's evaluations of R and the points, against ``run``'s."""
+    times = interleaved_medians(_continue, lambda: emulated(_continue), repeats=5)
+    row(f"continue_orbits [s] vs {route} (the route before, emulated) [s]", *times, "s",
+        higher_is_better=False)
+    row("R evaluations of the Python walk: now vs that route before",
+        residual_calls(_continue_in_python),
+        residual_calls(lambda: emulated(_continue_in_python)), higher_is_better=False)
+    row("points on the branches: now vs that route before",
+        sum(b.frequency_hz.size for b in run.branches),
+        sum(b.frequency_hz.size for b in emulated(_continue).branches),
+        higher_is_better=False)
 
 
 def _continue_locating_every_fold():
@@ -143,6 +151,18 @@ def _as_before_estimates(function):
         return function()
     finally:
         _continuation_map._ESTIMATED, _continuation._SIZE_CEILING = before
+
+
+def _corners_as_before(function):
+    """``function()`` with the walk as before ``_continuation.corner_step`` grew the
+    corner's step with the orbit's size: _CORNER_DS on every orbit."""
+    from numerics import _continuation
+
+    before, _continuation._CORNER_CEILING = _continuation._CORNER_CEILING, 1.0
+    try:
+        return function()
+    finally:
+        _continuation._CORNER_CEILING = before
 
 
 def _walk_compile_seconds() -> float:

@@ -23,13 +23,13 @@ import numpy as np
 # fmt: off
 # Indices into `settings`: the walk's numbers (filled by _continuation._Walk), then the
 # corrector's (PeriodMap.newton_settings), then the band's ends in z and the walk's
-# _TURN_SHARE, _STRAIGHT, _SIZE_REFERENCE, _SIZE_CEILING and _CORNER_CEILING; _SETTINGS
-# of them.
+# _TURN_SHARE, _STRAIGHT, _SIZE_REFERENCE, _SIZE_CEILING, _CORNER_CEILING and
+# _CORNER_SHRINK; _SETTINGS of them.
 _DS_MIN, _DS_MAX, _MAX_ANGLE, _GROW, _SHRINK, _CORNER_DS, _EASY, _STALL = 0, 1, 2, 3, 4, 5, 6, 7
 _TOL, _ITERATIONS, _REACH, _BACKTRACKS, _CONTRACTION, _ESTIMATED = 8, 9, 10, 11, 12, 13
 _F_LO, _F_HI, _TURN_SHARE, _STRAIGHT, _SIZE_REFERENCE, _SIZE_CEILING = 14, 15, 16, 17, 18, 19
-_CORNER_CEILING = 20
-_SETTINGS = 21
+_CORNER_CEILING, _CORNER_SHRINK = 20, 21
+_SETTINGS = 22
 # What walk_steps returns: the step failed (ds below its least), a step for Python to
 # finish (at index `kept` of the outputs), or the outputs are full.
 WALK_FAILED, WALK_PENDING, WALK_FULL = 0, 1, 2
@@ -279,7 +279,7 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
                 # The tangent turned too far: shorter by the share of the turn allowed.
                 ds *= min(settings[_SHRINK], settings[_TURN_SHARE] * settings[_MAX_ANGLE] / angle)
                 continue
-            ds *= settings[_SHRINK]
+            ds *= settings[_CORNER_SHRINK] if ds < corner else settings[_SHRINK]
         state[1] = resume
         if not accepted:
             state[0] = ds

@@ -71,8 +71,8 @@ def test_an_explicit_step_count_is_kept_even_where_the_walks_stop_at_corners():
 def test_steps_in_f_alone_never_turn_a_walk_back_onto_its_own_points(monkeypatch):
     # Regression: at 0.17 Q a step in f alone landed on a point the walk had passed (where
     # f zigzags over corners) and the walk retraced its branch up to 1800 Hz, with two
-    # "folds" where it turned round. Now "auto" ends at 2048 steps with the walks 5.7 Hz
-    # apart (263.91 and 269.60 Hz; 263.77 and 271.25 Hz before the corner's step grew
+    # "folds" where it turned round. Now "auto" ends at 2048 steps with the walks 5.9 Hz
+    # apart (263.66 and 269.60 Hz; 263.77 and 271.25 Hz before the corner's step grew
     # with the orbit's size, ``corner_step``; 263.77 and 269.60 Hz before the steps past
     # ds_max and the compiled corrections; 264.74 and 269.60 Hz before the walk's
     # contraction test); the bouncing fold (263.29 Hz, +-0.15 Hz: marked within a step, as
@@ -138,7 +138,7 @@ def test_the_compiled_walk_reads_each_number_where_python_writes_it():
                 "_F_LO": 0.01 / shoot.scale[2], "_F_HI": 0.2 / shoot.scale[2],
                 "_TURN_SHARE": c._TURN_SHARE, "_STRAIGHT": c._STRAIGHT,
                 "_SIZE_REFERENCE": c._SIZE_REFERENCE, "_SIZE_CEILING": c._SIZE_CEILING,
-                "_CORNER_CEILING": c._CORNER_CEILING}
+                "_CORNER_CEILING": c._CORNER_CEILING, "_CORNER_SHRINK": c._CORNER_SHRINK}
     assert walk.settings.size == len(expected) == module._SETTINGS
     for name, value in expected.items():
         assert walk.settings[getattr(module, name)] == value, name

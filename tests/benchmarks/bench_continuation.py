@@ -9,8 +9,9 @@ Issue 13's goal: under 0.5 s once compiled. Baselines, measured in the same run:
 - the walk as before Newton's stop by estimate and the steps past ds_max on large
   orbits (emulated through ``_continuation_map._ESTIMATED`` and
   ``_continuation._SIZE_CEILING``), in time, evaluations of R and points;
-- the walk as before the corner's step grew with the orbit's size (emulated through
-  ``_continuation._CORNER_CEILING``), in time, evaluations of R and points;
+- the walk as before the corner's step grew with the orbit's size and a step that failed
+  below it shrank faster (emulated through ``_continuation._CORNER_CEILING`` and
+  ``_CORNER_SHRINK``), in time, evaluations of R and points;
 - the time numba takes to compile the walk (``_walk_template``), its cache bypassed;
 - continuation packages from the package index, pycont-lite and contique, driving
   ``continue_orbits``' own shooting residual from the same start points over the same
@@ -66,7 +67,8 @@ def main() -> None:
     row("continue_orbits [s] vs locating every fold met (the route before, emulated) [s]", *every,
         "s", higher_is_better=False)
     _route_rows(run, "Newton's exact stop, no step past ds_max", _as_before_estimates)
-    _route_rows(run, "the corner's step _CORNER_DS on every orbit", _corners_as_before)
+    _route_rows(run, "corners as before (_CORNER_DS on every orbit, halved)",
+                _corners_as_before)
     row("compiling the walk (numba, its cache bypassed) [s]", _walk_compile_seconds(), unit="s")
     patient = interleaved_medians(_continue, lambda: _patiently(_continue), repeats=5)
     row("continue_orbits [s] vs no contraction test, no stall hand-over (emulated) [s]",
@@ -155,14 +157,16 @@ def _as_before_estimates(function):
 
 def _corners_as_before(function):
     """``function()`` with the walk as before ``_continuation.corner_step`` grew the
-    corner's step with the orbit's size: _CORNER_DS on every orbit."""
-    from numerics import _continuation
+    corner's step with the orbit's size (_CORNER_DS on every orbit) and a step that
+    failed below it shrank by _CORNER_SHRINK (halved, as any other)."""
+    from numerics import _continuation as c
 
-    before, _continuation._CORNER_CEILING = _continuation._CORNER_CEILING, 1.0
+    before = c._CORNER_CEILING, c._CORNER_SHRINK
+    c._CORNER_CEILING, c._CORNER_SHRINK = 1.0, c._SHRINK
     try:
         return function()
     finally:
-        _continuation._CORNER_CEILING = before
+        c._CORNER_CEILING, c._CORNER_SHRINK = before
 
 
 def _walk_compile_seconds() -> float:

@@ -13,11 +13,12 @@ of the simulator's RK4 map at N fixed steps per period (``_continuation_map``).
   (``_continuation_map.near_enough``).
 - Step control: ds grows by 1.5 after an easy step (at most 3 iterations), up to
   ds_max, or on a large orbit where the branch runs straight, up to ds_max times the
-  orbit's size (``largest_step``); it shrinks by 2 on a failed Newton, and by the share
-  of ``max_angle`` over the turn (by 2 at least) whenever consecutive tangents differ
-  by more than ``max_angle``, so that no fold is stepped across unseen; over a step
-  shorter than a corner's (``corner_step``: longer on a large orbit) such a turn is
-  taken for a corner of the map and the step accepted. A step below
+  orbit's size (``largest_step``); it shrinks by 2 on a failed Newton (by 4 below a
+  corner's step, ``_CORNER_SHRINK``), and by the share of ``max_angle`` over the turn
+  (by 2 at least) whenever consecutive tangents differ by more than ``max_angle``, so
+  that no fold is stepped across unseen; over a step shorter than a corner's
+  (``corner_step``: longer on a large orbit, at most ds_max) such a turn is taken for a
+  corner of the map and the step accepted. A step below
   ``_STALL_DS`` hands over to a step in f alone first (a corner where the branch turns
   back), and only then shrinks on.
 - Stability: the Floquet multipliers, eigenvalues of the monodromy matrix; an orbit
@@ -61,7 +62,8 @@ DEFAULTS = {"steps_per_period": "auto", "ds_max": 0.02, "max_angle": 0.1, "max_p
 #: The least N of "auto": the map's corners (a step's stage crossing y = 0) grow with the
 #: step; at 0.15 Q, N = 128 shows zigzags of f by 0.27 Hz on the bouncing middle branch
 #: (taken for folds) and stops at 398 Hz, N = 512 none and reaches 355 Hz (352.55 Hz with
-#: the contraction test and the steps past ds_max, 354.00 Hz with ``corner_step``).
+#: the contraction test and the steps past ds_max, 354.00 Hz with ``corner_step`` and
+#: _CORNER_SHRINK: ``corner_step`` alone gave 352.33 Hz; 2026-11-24, both engines).
 _AUTO_MIN_STEPS = 512
 #: "auto" doubles N, up to this, while a walk stops inside the band at a corner: at 0.15 Q
 #: the walk up stops near the bouncing fold (354.00 Hz) at 512 steps, and the branch passes
@@ -82,15 +84,18 @@ _STALL_DS = 1e-5
 #: walk has crept into a corner where the branch folds back onto itself, and walking on
 #: would retrace it. At 0.17 Q, N = 2048, such a step of 3.3e-9 turned the compiled walk
 #: back along its own last 67 points (2026-11-23, with the larger steps of
-#: ``largest_step``); every turn back at 0.15 Q (47, in the bouncing fold's zigzag) is
-#: over a step of 1.3e-4 or more.
+#: ``largest_step``); every turn back at 0.15 Q is over a longer step: 35 within
+#: 352.38-361.38 Hz on the walk up at N = 1024, each a move of 5.9e-4 or more in z (the 9
+#: of them that are arclength steps, 8.4e-4 or more; 2026-11-24, Python walk, after
+#: ``corner_step``; 47 over 1.3e-4 or more on 2026-11-23).
 _GROW, _SHRINK = 1.5, 0.5
 #: A step whose tangent turns by more than max_angle is shortened by this share of
 #: max_angle over the turn (the turn grows with the step), by _SHRINK at least. At 0.17 Q,
 #: N = 2048, the bouncing fold is then located; with _SHRINK alone it was only marked
 #: (2026-11-23, before the larger steps on straight orbits: the walks then ended 5.8 Hz
-#: apart, 263.8 and 269.6 Hz, against 7.5 Hz with _SHRINK alone; the compiled walk down
-#: now ends at 271.25 Hz, round-off at another corner, the Python walk at 269.6 Hz).
+#: apart, 263.8 and 269.6 Hz, against 7.5 Hz with _SHRINK alone). With ``corner_step``
+#: and _CORNER_SHRINK (2026-11-24) both engines end at 263.66 and 269.60 Hz, and the
+#: bouncing fold is only marked (263.29 Hz, +-0.15 Hz): see _CORNER_CEILING.
 _TURN_SHARE = 0.9
 #: A tangent that turns by more than max_angle over a step this short (in z) turns at a
 #: corner of the branch, not at a fold (the map is only piecewise smooth through loss
@@ -116,6 +121,18 @@ _CORNER_DS = 1e-3
 #: that large); a flat _CORNER_DS of 3e-3 instead ended every such walk at N = 1024 at a
 #: corner (walked again at 2048), and one of 6e-3 left the sweep's states at 0.05 Q
 #: 0.526 % off the branch.
+#: The ceiling acts only past |(y, v)| = 40 in z: at 0.13 and 0.15 Q the orbits reach 28 at
+#: most (scale 14): 15, 20 and 40 walk them bit for bit alike (both engines at 0.15 Q, the
+#: Python walk at 0.13 Q); 10 does not (1995 points at 0.15 Q, against 1971, the same
+#: folds). At 0.17 Q (orbits up to 53), "auto", measured by hand (2026-11-24, one walk
+#: each; points of the compiled walk, evaluations of R of the Python walk): 10 locates
+#: the bouncing fold (263.268 Hz; the walks end at 263.91 and 269.60 Hz; 2073 points;
+#: 12,891 evaluations), 15 only marks it (263.272 Hz +-0.149; 11,561 evaluations), 20
+#: too (263.292 Hz; 263.66 and 269.60 Hz; 1962; 11,777) and 40 too (263.291 Hz; 263.66
+#: and 271.25 Hz, 269.60 Hz in Python; 1764; 11,562). It was located (263.27 Hz) before
+#: ``corner_step``. 20 is kept: 10 would change the walks at 0.15 Q and take
+#: 9 % more evaluations at 0.17 Q for a fold located there, not moved (0.024 Hz apart,
+#: within the marked one's 0.149 Hz).
 _CORNER_CEILING = 20.0
 #: A step that fails below the corner's step (``corner_step``) shrinks by this, not by
 #: _SHRINK: it has met a corner, where the steps creep towards the stall's ds (and the
@@ -123,7 +140,10 @@ _CORNER_CEILING = 20.0
 #: for _CORNER_CEILING): at 0.15 Q 7,805 evaluations of R against 8,609 with _SHRINK,
 #: every walk through the bouncing fold at N = 1024 with the same two folds, the sweeps'
 #: states as near the branch (0.153 %, 0.122 %; 0.336 % at 0.05 Q); at 0.13 Q 1,992
-#: against 2,109, the same two folds.
+#: against 2,109, the same two folds. Other factors, measured the same way (2026-11-24,
+#: by hand): 1/8 took 7,912 at 0.15 Q and 2,024 at 0.13 Q, 1/3 took 7,611 and 2,037
+#: (against 7,805 and 1,992 with 1/4), every walk with the same folds: neither is better
+#: at both.
 _CORNER_SHRINK = 0.25
 #: Where the branch runs straight (its tangent turned by at most _STRAIGHT rad over the
 #: step), the next step may grow past ds_max in proportion to the orbit's size |(y, v)| in
@@ -345,7 +365,8 @@ def continue_orbits(
         the static deflection; where a larger (bouncing) orbit's branch runs straight, a
         step may be ds_max times |(y, v)| / 2 in z, up to 20 ds_max (``largest_step``).
     max_angle : float
-        Largest angle [rad] between the tangents of consecutive points.
+        Largest angle [rad] between the tangents of consecutive points, except over
+        steps shorter than a corner's step (``corner_step``).
     max_points : int
         A walk gives up after this many points; the folds located once it has ended
         are added to them (one per fold reported).
@@ -442,16 +463,20 @@ def largest_step(z: np.ndarray, angle: float, ds_max: float) -> float:
     return ds_max * orbit_scale(z, _SIZE_CEILING)
 
 
-def corner_step(z: np.ndarray) -> float:
+def corner_step(z: np.ndarray, ds_max: float) -> float:
     """The step from a point ``z`` below which a tangent that turns by more than
     max_angle is taken to turn at a corner of the map: ``_CORNER_DS``, times the orbit's
-    size over ``_SIZE_REFERENCE`` on a large orbit, up to ``_CORNER_CEILING`` times."""
-    return _CORNER_DS * orbit_scale(z, _CORNER_CEILING)
+    size over ``_SIZE_REFERENCE`` on a large orbit, up to ``_CORNER_CEILING`` times, and
+    at most ``ds_max`` (the user's largest step: a turn over a step of ds_max or more is
+    never a corner's). At the defaults the cap is 20 x 1e-3 = ds_max: it changes no
+    walk."""
+    return min(_CORNER_DS * orbit_scale(z, _CORNER_CEILING), ds_max)
 
 
 def orbit_scale(z: np.ndarray, ceiling: float) -> float:
-    """The orbit's size |(y, v)| in z over ``_SIZE_REFERENCE``, between 1 and
-    ``ceiling``: how much longer a step may be on it than on an orbit in contact."""
+    """The orbit's size |(y, v)| in z over ``_SIZE_REFERENCE``, clipped to [1,
+    ``ceiling``]: how much longer a step may be on it than on an orbit in contact (at
+    least 1 only while ``ceiling`` is, as _SIZE_CEILING and _CORNER_CEILING are)."""
     size = math.sqrt(z[0] * z[0] + z[1] * z[1]) / _SIZE_REFERENCE
     return min(max(1.0, size), ceiling)
 
@@ -763,7 +788,7 @@ class _Walk:
         _DS_MIN)."""
         z, t = self.points[-1].z, self.tangents[-1]
         least = _STALL_DS if ds >= _STALL_DS else _DS_MIN
-        corner = corner_step(z)
+        corner = corner_step(z, self.ds_max)
         while ds >= least:
             point = self.shoot.correct_step(z + ds * t, t, t @ z + ds)
             t_new = None if point is None else point.tangent(t, self.orientation)
@@ -774,7 +799,12 @@ class _Walk:
                 if angle <= self.max_angle:
                     self.resume = None
                     # An easy step grows the next; so does a step shorter than _CORNER_DS
-                    # (Newton may stay slow near a corner however short the step).
+                    # (Newton may stay slow near a corner however short the step). Flat,
+                    # not the corner's step: with ``ds < corner`` the Python walk took
+                    # 8,036 evaluations of R at 0.15 Q (against 7,805) and reported two
+                    # more folds, marked (354.38, 354.20 Hz), and 2,073 at 0.13 Q (against
+                    # 1,992, the bouncing fold 0.03 Hz away; measured by hand as for
+                    # _CORNER_CEILING, 2026-11-24).
                     grow = point.iterations <= _EASY_ITERATIONS or ds < _CORNER_DS
                     ds = min(ds * _GROW if grow else ds,
                              largest_step(point.z, angle, self.ds_max))
@@ -1045,7 +1075,8 @@ def _zigzags(f: np.ndarray, turn: int) -> bool:
 
     Near a fold of a bouncing orbit the fixed-step map's corners make f zigzag: the
     branch turns back and forth, each turn a fold of the discrete map (at 0.15 Q,
-    N = 1024, f turns some 50 times within 352.36-353.49 Hz). Turns closer than
+    N = 1024, f turns 55 times within 352.36-353.98 Hz, 17 of them within
+    ``_FOLD_PROMINENCE`` of the fold at 352.36 Hz; 2026-11-24). Turns closer than
     ``_FOLD_PROMINENCE`` are not told apart as folds, and which of them a walk locates
     depends on its steps: such a fold is known to that resolution, not to Brent's.
     """

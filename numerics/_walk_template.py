@@ -53,8 +53,7 @@ def period_map(z, scale, steps, period, drive, force_is_parameter, other, jac, m
     jac[1, 0], jac[1, 1] = exact[0, 1, 0] * scale[0] / scale[1], exact[0, 1, 1] - 1.0
     jac[0, 2] = exact[0, 0, 2] * by_parameter / scale[0]
     jac[1, 2] = exact[0, 1, 2] * by_parameter / scale[1]
-    copy_into(mono[0], exact[0, 0])  # noqa: F821
-    copy_into(mono[1], exact[0, 1])  # noqa: F821
+    copy_rows(mono, exact[0])
     return (ys[0] - y) / scale[0], (vs[0] - v) / scale[1]
 
 
@@ -114,11 +113,27 @@ def largest_step(z, angle, settings):
 
 
 @numba.njit(cache=True, error_model="numpy")
+def corner_step(z, settings):
+    """``_continuation.corner_step``: _CORNER_DS times the orbit's size over
+    _SIZE_REFERENCE, between 1 and _CORNER_CEILING times, and at most _DS_MAX."""
+    return min(settings[_CORNER_DS] * orbit_scale(z, settings[_CORNER_CEILING], settings),
+               settings[_DS_MAX])
+
+
+@numba.njit(cache=True, error_model="numpy")
 def orbit_scale(z, ceiling, settings):
     """``_continuation.orbit_scale``: the orbit's size |(y, v)| in z over
-    _SIZE_REFERENCE, between 1 and ``ceiling``."""
+    _SIZE_REFERENCE, clipped to [1, ``ceiling``] (at least 1 only while ``ceiling`` is)."""
     size = math.sqrt(z[0] * z[0] + z[1] * z[1]) / settings[_SIZE_REFERENCE]
     return min(max(1.0, size), ceiling)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def copy_rows(out, rows):
+    """Each row of ``rows`` into the same row of ``out`` (which may have more rows), in
+    loops (``copy_into``)."""
+    for i in range(rows.shape[0]):
+        copy_into(out[i], rows[i])  # noqa: F821
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -141,8 +156,7 @@ def correct(z0, row, target, scale, steps, period, drive, force_is_parameter, ot
     for iteration in range(1, int(settings[_ITERATIONS]) + 1):
         if not (np.isfinite(full).all() and np.isfinite(jac).all()):
             return 0
-        copy_into(bordered[0], jac[0])  # noqa: F821
-        copy_into(bordered[1], jac[1])  # noqa: F821
+        copy_rows(bordered, jac)
         if not solve3(bordered, -full, step):
             return 0
         largest = np.abs(step).max()
@@ -173,9 +187,8 @@ def correct(z0, row, target, scale, steps, period, drive, force_is_parameter, ot
             return 0  # no halving reduced |F|: stuck at a corner of the map
         copy_into(z, trial)  # noqa: F821
         copy_into(full, f_trial)  # noqa: F821
-        for i in range(2):
-            copy_into(jac[i], j_trial[i])  # noqa: F821
-            copy_into(mono[i], m_trial[i])  # noqa: F821
+        copy_rows(jac, j_trial)
+        copy_rows(mono, m_trial)
     return 0
 
 
@@ -184,17 +197,15 @@ def store_root(z, step, jac, mono, z_out, jac_out, mono_out):
     """z + step into z_out, jac and mono into jac_out and mono_out."""
     for i in range(3):
         z_out[i] = z[i] + step[i]
-    for i in range(2):
-        copy_into(jac_out[i], jac[i])  # noqa: F821
-        copy_into(mono_out[i], mono[i])  # noqa: F821
+    copy_rows(jac_out, jac)
+    copy_rows(mono_out, mono)
 
 
 @numba.njit(cache=True, error_model="numpy")
 def tangent(jac, reference, orientation, t):
     """``Point.tangent``: the unit null vector of jac, signed by ``orientation``, into t."""
     bordered = np.empty((3, 3))
-    copy_into(bordered[0], jac[0])  # noqa: F821
-    copy_into(bordered[1], jac[1])  # noqa: F821
+    copy_rows(bordered, jac)
     copy_into(bordered[2], reference)  # noqa: F821
     last = np.zeros(3)
     last[2] = 1.0
@@ -247,8 +258,7 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
         # A step that began above the stall's ds hands back below it (Python tries a
         # step in f alone); one that began below it shrinks to the least ds.
         least = settings[_STALL] if ds >= settings[_STALL] else settings[_DS_MIN]
-        # ``_continuation.corner_step``: below it a turn is a corner's.
-        corner = settings[_CORNER_DS] * orbit_scale(z, settings[_CORNER_CEILING], settings)
+        corner = corner_step(z, settings)  # below it a turn is a corner's
         while ds >= least:
             for i in range(3):
                 guess[i] = z[i] + ds * t[i]
@@ -296,6 +306,5 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
             return WALK_PENDING, kept
         copy_into(z, z_new)  # noqa: F821
         copy_into(t, t_new)  # noqa: F821
-        copy_into(mono[0], mono_out[kept, 0])  # noqa: F821
-        copy_into(mono[1], mono_out[kept, 1])  # noqa: F821
+        copy_rows(mono, mono_out[kept])
     return WALK_FULL, z_out.shape[0]

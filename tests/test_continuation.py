@@ -111,9 +111,9 @@ def test_the_015q_branch_passes_the_bouncing_fold_and_holds_every_stable_sweep_s
     # Both folds are located by Brent's method. The primary fold is stated to its xtol,
     # LOCATE_TOL in z: 1e-8 f_n0 (1.4856e-5 Hz; measured within 7.6e-9 of it, relative:
     # it is taken as the difference of two f_e near 1333 Hz, each rounded to 2.3e-13 Hz).
-    # About the bouncing fold the map's corners make f zigzag (some 50 turns within
-    # 352.36-353.34 Hz): it is stated to the resolution that tells folds apart,
-    # _FOLD_PROMINENCE in z (0.1486 Hz).
+    # About the bouncing fold the map's corners make f zigzag (55 turns within
+    # 352.36-353.98 Hz, measured 2026-11-24): it is stated to the resolution that tells
+    # folds apart, _FOLD_PROMINENCE in z (0.1486 Hz).
     from numerics._continuation import _FOLD_PROMINENCE, LOCATE_TOL
 
     f_n0 = eq26_numbers().f_n0_hz

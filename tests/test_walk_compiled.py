@@ -11,8 +11,8 @@ from scipy.spatial import cKDTree
 
 from common import Status
 from numerics import _codegen, _walk_codegen, continue_orbits
-from numerics._continuation import walk_band
-from numerics._continuation_map import ForceMap
+from numerics._continuation import _band_walk, walk_band
+from numerics._continuation_map import ForceMap, PeriodMap
 from numerics._walk_codegen import compiled_walk
 from perturb import LINEAR, ContactModel, eq26_numbers
 from perturb._cache import intact
@@ -120,28 +120,84 @@ def test_a_damaged_walk_file_is_written_and_compiled_again(tmp_path, monkeypatch
     assert run.settings["engine"] == "compiled" and run.branches[0].status == 0
 
 
-def test_the_compiled_walk_reads_each_number_where_python_writes_it():
+def test_the_compiled_walk_reads_each_number_where_python_writes_it(monkeypatch):
     # The settings array is filled in _Walk.__init__ (and PeriodMap.newton_settings) and
-    # read by index in the template: each index must hold the number of its name.
+    # read by index in the template: each index must hold the number of its name. Numbers
+    # that are equal by default (_SIZE_CEILING and _CORNER_CEILING 20, _SHRINK and
+    # _CONTRACTION 0.5, ds_max and _STRAIGHT 0.03) are made distinct here, and all are
+    # checked to be, so that two indices swapped fail.
     from numerics import _continuation as c
     from numerics import _continuation_map as m
 
+    monkeypatch.setattr(c, "_CORNER_CEILING", 21.0)
+    monkeypatch.setattr(m, "_CONTRACTION", 0.55)
     shoot = m.ForceMap(ContactModel(), 1400.0, 512, 1)
-    walk = c._Walk(shoot, 0.01, 0.2, 1, 0.03, 0.07, 10, None)
+    walk = c._Walk(shoot, 0.01, 0.2, 1, 0.031, 0.07, 10, None)
     module = shoot.walker
-    expected = {"_DS_MIN": c._DS_MIN, "_DS_MAX": 0.03, "_MAX_ANGLE": 0.07, "_GROW": c._GROW,
+    expected = {"_DS_MIN": c._DS_MIN, "_DS_MAX": 0.031, "_MAX_ANGLE": 0.07, "_GROW": c._GROW,
                 "_SHRINK": c._SHRINK, "_CORNER_DS": c._CORNER_DS, "_EASY": c._EASY_ITERATIONS,
                 "_STALL": c._STALL_DS,
                 "_TOL": m.NEWTON_TOL, "_ITERATIONS": m.NEWTON_ITERATIONS,
                 "_REACH": m._NEWTON_REACH, "_BACKTRACKS": m._BACKTRACKS,
-                "_CONTRACTION": m._CONTRACTION, "_ESTIMATED": float(m._ESTIMATED),
+                "_CONTRACTION": 0.55, "_ESTIMATED": float(m._ESTIMATED),
                 "_F_LO": 0.01 / shoot.scale[2], "_F_HI": 0.2 / shoot.scale[2],
                 "_TURN_SHARE": c._TURN_SHARE, "_STRAIGHT": c._STRAIGHT,
                 "_SIZE_REFERENCE": c._SIZE_REFERENCE, "_SIZE_CEILING": c._SIZE_CEILING,
-                "_CORNER_CEILING": c._CORNER_CEILING, "_CORNER_SHRINK": c._CORNER_SHRINK}
+                "_CORNER_CEILING": 21.0, "_CORNER_SHRINK": c._CORNER_SHRINK}
+    assert len(set(expected.values())) == len(expected)  # a swap of any two would show
     assert walk.settings.size == len(expected) == module._SETTINGS
     for name, value in expected.items():
         assert walk.settings[getattr(module, name)] == value, name
+
+
+def test_the_corners_step_grows_with_the_orbit_but_not_past_ds_max():
+    # ``corner_step`` in Python and in the compiled walk: _CORNER_DS (1e-3) times the
+    # orbit's size |(y, v)| in z over _SIZE_REFERENCE (2), up to _CORNER_CEILING times,
+    # and never above the user's ds_max (with ds_max = 0.005 at 0.15 Q the uncapped step
+    # reached 0.014, so that a sharp turn over any step up to ds_max was taken for a
+    # corner; capped, that walk took 5075 points against 4978, the same two folds:
+    # measured once by hand, 2026-11-24).
+    from numerics import _continuation as c
+    from numerics import _continuation_map as m
+
+    shoot = m.PeriodMap(ContactModel(), 0.15 * ContactModel().parameters.Q_n, 512, 1)
+    module = shoot.walker
+    for ds_max, size, step in [(0.02, 1.0, 1e-3), (0.02, 28.0, 0.014), (0.02, 100.0, 0.02),
+                               (0.005, 28.0, 0.005), (0.005, 6.0, 0.003),
+                               (5e-4, 1.0, 5e-4)]:
+        z = np.array([0.6 * size, -0.8 * size, 0.3])
+        settings = c._Walk(shoot, 250.0, 1800.0, 1, ds_max, 0.1, 10, None).settings
+        # rel 1e-12: the round-off of |(y, v)| alone (0.6 and 0.8 are not exact in binary).
+        assert c.corner_step(z, ds_max) == pytest.approx(step, rel=1e-12), (ds_max, size)
+        assert module.corner_step(z, settings) == c.corner_step(z, ds_max), (ds_max, size)
+
+
+def test_both_engines_walk_the_same_bouncing_branch_at_0_15_q():
+    # The twin tests above walk orbits in contact (orbit_scale 1); this one walks the
+    # bouncing branch, where the largest and the corner's steps grow with the orbit's size
+    # (|(y, v)| up to 25.8 in z here), up from 250 Hz at N = 512 until a corner stops it.
+    model = ContactModel()
+    p_a = 0.15 * model.parameters.Q_n
+    walks = {engine: _band_walk(PeriodMap(model, p_a, 512, 1, engine), model, 250.0, 1800.0,
+                                0.02, 0.1, 20_000, True, 1)
+             for engine in ("python", "compiled")}
+    a, b = (np.array([p.z for p in walks[e].points]) for e in ("python", "compiled"))
+    scale_f = PeriodMap(model, p_a, 512, 1, "python").scale[2]
+    # Measured (2026-11-24): 792 points each, the same Newton iterations at every point,
+    # the same three folds marked (one located), both stopped at a corner at 353.9985 Hz.
+    assert len(a) == len(b) == 792
+    assert [p.iterations for p in walks["python"].points] == [
+        p.iterations for p in walks["compiled"].points]
+    marks = {e: [m[:3] for m in w.marks] for e, w in walks.items()}  # index, kind, located
+    assert marks["python"] == marks["compiled"] == [(161, "fold", True), (746, "fold", False),
+                                                    (766, "fold", False)]
+    assert all(w.status == Status.FAILED and w.message.startswith("step below")
+               for w in walks.values())
+    # Newton stops at a step of 1e-10 in z (some 1.5e-7 Hz), so the points may differ by
+    # that; measured 4.3e-10 Hz (round-off: the same steps in the same order).
+    assert np.abs(a[:, 2] - b[:, 2]).max() * scale_f < 1.5e-7
+    assert np.abs(a - b).max() < 1e-10  # in z, Newton's tolerance; measured 2.4e-11
+    assert a[-1, 2] * scale_f == pytest.approx(353.9985, abs=1e-4)
 
 
 @pytest.mark.parametrize("engine", ["compiled", "python"])

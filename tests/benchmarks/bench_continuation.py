@@ -12,7 +12,8 @@ Issue 13's goal: under 0.5 s once compiled. Baselines, measured in the same run:
 - the walk as before the corner's step grew with the orbit's size and a step that failed
   below it shrank faster (emulated through ``_continuation._CORNER_CEILING`` and
   ``_CORNER_SHRINK``), in time, evaluations of R and points;
-- the time numba takes to compile the walk (``_walk_template``), its cache bypassed;
+- the time numba takes to compile the walk (``_walk_template``), the walk's cache
+  bypassed, the kernels it calls already compiled (median of 3);
 - continuation packages from the package index, pycont-lite and contique, driving
   ``continue_orbits``' own shooting residual from the same start points over the same
   band (``_pycont``): their time, residual calls, the points they reached and how far
@@ -43,6 +44,7 @@ from ._timing import header, interleaved_medians, row
 PA_FRAC, BAND = 0.15, (250.0, 1800.0)
 GRID = np.arange(BAND[0], BAND[1] + 0.5, 5.0)
 PACKAGE_REPEATS = 3  # a pycont-lite run takes 15 to 20 s here
+COMPILE_REPEATS = 3  # a build of the walk takes some 5 s
 PACKAGES = (("pycont-lite", "pycont_lite"), ("contique", "contique"))  # name, distribution
 
 
@@ -66,16 +68,19 @@ def main() -> None:
     every = interleaved_medians(_continue, _continue_locating_every_fold, repeats=5)
     row("continue_orbits [s] vs locating every fold met (the route before, emulated) [s]", *every,
         "s", higher_is_better=False)
-    _route_rows(run, "Newton's exact stop, no step past ds_max", _as_before_estimates)
-    _route_rows(run, "corners as before (_CORNER_DS on every orbit, halved)",
+    # The Python walk's evaluations of R now, counted once for every row beside it.
+    calls = residual_calls(_continue_in_python)
+    _route_rows(run, calls, "Newton's exact stop, no step past ds_max", _as_before_estimates)
+    _route_rows(run, calls, "corners as before (_CORNER_DS on every orbit, halved)",
                 _corners_as_before)
-    row("compiling the walk (numba, its cache bypassed) [s]", _walk_compile_seconds(), unit="s")
+    row(f"compiling the walk (numba, the walk's cache bypassed, the kernels' warm; median of "
+        f"{COMPILE_REPEATS}) [s]", _walk_compile_seconds(), unit="s")
     patient = interleaved_medians(_continue, lambda: _patiently(_continue), repeats=5)
     row("continue_orbits [s] vs no contraction test, no stall hand-over (emulated) [s]",
         *patient, "s", higher_is_better=False)
     row("R evaluations of the Python walk: now vs no contraction test, no stall hand-over",
-        residual_calls(_continue_in_python),
-        residual_calls(lambda: _patiently(_continue_in_python)), higher_is_better=False)
+        calls, residual_calls(lambda: _patiently(_continue_in_python)),
+        higher_is_better=False)
     steps = run.settings["steps_per_period"]
     row("N steps per period the branch took ('auto')", steps)
     compiled, python = interleaved_medians(
@@ -95,17 +100,17 @@ def main() -> None:
     for mark in run.bifurcations:
         print(f"  {mark.kind} at {mark.frequency_hz:.4f} Hz, App {mark.app_m * 1e9:.2f} nm, "
               f"{mark.precision()}")
-    _beside_packages(run)
+    _beside_packages(run, calls)
 
 
-def _route_rows(run, route: str, emulated) -> None:
+def _route_rows(run, calls: int, route: str, emulated) -> None:
     """The rows of one route before, ``emulated(function)`` running ``function`` as it
-    was: time, the Python walk's evaluations of R and the points, against ``run``'s."""
+    was: time, the Python walk's evaluations of R and the points, against ``run``'s (and
+    ``calls``, the Python walk's evaluations now)."""
     times = interleaved_medians(_continue, lambda: emulated(_continue), repeats=5)
     row(f"continue_orbits [s] vs {route} (the route before, emulated) [s]", *times, "s",
         higher_is_better=False)
-    row("R evaluations of the Python walk: now vs that route before",
-        residual_calls(_continue_in_python),
+    row("R evaluations of the Python walk: now vs that route before", calls,
         residual_calls(lambda: emulated(_continue_in_python)), higher_is_better=False)
     row("points on the branches: now vs that route before",
         sum(b.frequency_hz.size for b in run.branches),
@@ -170,9 +175,12 @@ def _corners_as_before(function):
 
 
 def _walk_compile_seconds() -> float:
-    """The seconds numba takes to compile the paper model's walk (the text that
-    ``_walk_codegen`` generates, with numba's cache off, loaded from a scratch folder)
-    and run its smoke test: the first continuation's wait for the walk."""
+    """The median seconds (of COMPILE_REPEATS) numba takes to compile the paper model's
+    walk (the text that ``_walk_codegen`` generates, with numba's cache off, loaded
+    afresh from a scratch folder each time) and run its smoke test. The kernels it
+    imports are loaded already (compiled, from their cache), so this is the walk's own
+    build: a first continuation's wait when the kernels are built and the walk is not,
+    not the wait with an empty cache (which compiles the kernels too)."""
     import importlib.util
     import tempfile
     import time
@@ -181,15 +189,19 @@ def _walk_compile_seconds() -> float:
     from numerics import _walk_codegen
 
     source = _walk_codegen._source(compiled_kernels(ContactModel()))
+    seconds = []
     with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "walk_bench.py"
-        path.write_text(source.replace("cache=True", "cache=False"))
-        spec = importlib.util.spec_from_file_location("walk_bench", path)
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-        start = time.perf_counter()
-        _walk_codegen._smoke(module)
-        return time.perf_counter() - start
+        for repeat in range(COMPILE_REPEATS):
+            name = f"walk_bench_{repeat}"  # a new module: numba compiles its functions anew
+            path = Path(folder) / f"{name}.py"
+            path.write_text(source.replace("cache=True", "cache=False"))
+            spec = importlib.util.spec_from_file_location(name, path)
+            module = importlib.util.module_from_spec(spec)
+            spec.loader.exec_module(module)
+            start = time.perf_counter()
+            _walk_codegen._smoke(module)
+            seconds.append(time.perf_counter() - start)
+    return float(np.median(seconds))
 
 
 def _evaluation_routes(steps: int) -> tuple[float, float]:
@@ -218,9 +230,10 @@ def _evaluation_routes(steps: int) -> tuple[float, float]:
     return tuple(1e3 * t / 20 for t in seconds)
 
 
-def _beside_packages(run) -> None:
-    """The continuation packages on the same residual, start points and band as ``run``;
-    one line for those not installed."""
+def _beside_packages(run, calls: int) -> None:
+    """The continuation packages on the same residual, start points and band as ``run``
+    (``calls``: the evaluations of R of the Python walk of the same branch); one line for
+    those not installed."""
     versions = {name: installed_version(distribution) for name, distribution in PACKAGES}
     missing = [name for name, version in versions.items() if version is None]
     if missing:
@@ -234,9 +247,8 @@ def _beside_packages(run) -> None:
                         for b in run.branches]) / shoot.scale
     # The compiled walk evaluates R out of Python's sight: its calls are counted on the
     # Python walk, the reference that takes the same steps (engine="python").
-    python_walk_calls = residual_calls(_continue_in_python)
     ours = {"points": sum(b.frequency_hz.size for b in run.branches),
-            "calls": python_walk_calls,
+            "calls": calls,
             "largest |R|": residual_norms(shoot, ours_z).max(initial=0.0),
             "folds": ", ".join(f"{b.frequency_hz:.3f}" for b in run.folds()) or "none"}
     runs = _runs(shoot, model, run.settings["ds_max"])

@@ -303,7 +303,8 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "max_angle": ("largest angle between the tangents of consecutive continued points, "
                   "but over a step shorter than a corner's of the map (1e-3 in the "
                   "unknowns on orbits within twice the static deflection, in proportion "
-                  "to the orbit's size on larger ones, at most 20 times)",
+                  "to the orbit's size on larger ones, at most 20 times and at most "
+                  "ds_max: `corner_step`)",
                   "rad", ""),
     "max_points": ("most points a walk of a continued branch may take (the folds located "
                    "once it has ended come on top)", "1", ""),

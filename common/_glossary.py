@@ -301,10 +301,11 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
                "runs straight on a larger orbit, up to ds_max times half the orbit's size "
                "sqrt(y^2 + v^2) in those units, at most 20 ds_max", "1", ""),
     "max_angle": ("largest angle between the tangents of consecutive continued points, "
-                  "but over a step shorter than a corner's of the map (1e-3 in the "
+                  "except over a step shorter than the map's corner step (1e-3 in the "
                   "unknowns on orbits within twice the static deflection, in proportion "
                   "to the orbit's size on larger ones, at most 20 times and at most "
-                  "ds_max: `corner_step`)",
+                  "ds_max: `corner_step`), where a larger turn is taken for a corner "
+                  "and accepted",
                   "rad", ""),
     "max_points": ("most points a walk of a continued branch may take (the folds located "
                    "once it has ended come on top)", "1", ""),

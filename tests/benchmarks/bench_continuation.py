@@ -25,6 +25,8 @@ Medians of interleaved repeats, warm (kernels compiled).
 
 from __future__ import annotations
 
+from unittest import mock
+
 import numpy as np
 
 from numerics import compiled_kernels, continue_orbits, drive_table, sweep
@@ -138,12 +140,9 @@ def _patiently(function):
     makes is not emulated."""
     from numerics import _continuation, _continuation_map
 
-    before = _continuation_map._CONTRACTION, _continuation._STALL_DS
-    _continuation_map._CONTRACTION, _continuation._STALL_DS = np.inf, _continuation._DS_MIN
-    try:
+    with mock.patch.object(_continuation_map, "_CONTRACTION", np.inf), \
+            mock.patch.object(_continuation, "_STALL_DS", _continuation._DS_MIN):
         return function()
-    finally:
-        _continuation_map._CONTRACTION, _continuation._STALL_DS = before
 
 
 def _as_before_estimates(function):
@@ -152,12 +151,9 @@ def _as_before_estimates(function):
     (one more evaluation of R), and no step grows past ds_max."""
     from numerics import _continuation, _continuation_map
 
-    before = _continuation_map._ESTIMATED, _continuation._SIZE_CEILING
-    _continuation_map._ESTIMATED, _continuation._SIZE_CEILING = False, 1.0
-    try:
+    with mock.patch.object(_continuation_map, "_ESTIMATED", False), \
+            mock.patch.object(_continuation, "_SIZE_CEILING", 1.0):
         return function()
-    finally:
-        _continuation_map._ESTIMATED, _continuation._SIZE_CEILING = before
 
 
 def _corners_as_before(function):
@@ -166,12 +162,8 @@ def _corners_as_before(function):
     failed below it shrank by _CORNER_SHRINK (halved, as any other)."""
     from numerics import _continuation as c
 
-    before = c._CORNER_CEILING, c._CORNER_SHRINK
-    c._CORNER_CEILING, c._CORNER_SHRINK = 1.0, c._SHRINK
-    try:
+    with mock.patch.multiple(c, _CORNER_CEILING=1.0, _CORNER_SHRINK=c._SHRINK):
         return function()
-    finally:
-        c._CORNER_CEILING, c._CORNER_SHRINK = before
 
 
 def _walk_compile_seconds() -> float:

@@ -52,7 +52,7 @@ from perturb import (
 )
 
 from ._forked import ForkedJobs, forks
-from ._work_precision import ERROR_ORDERS, METHODS, SERIES_ORDERS, WorkPrecision
+from ._work_precision import ERROR_ORDERS, SERIES_ORDERS, WorkPrecision, scene_methods
 
 __all__ = ["PaperScene", "COEXISTENCE_POINTS", "SCENES", "CENSUS_SCENES", "SCENE_FILES",
            "KERNEL_FREE", "paper_scene", "worker_pool"]
@@ -138,7 +138,7 @@ def merged_work_precision(parts: list[SceneJob], scene: Scene, out: Path | None)
     """The work-precision scene ``scene`` as one job, from ``parts`` that measured some
     of its methods each (its figure drawn into ``out``, when given)."""
     work = WorkPrecision.merged([WorkPrecision.from_text(part.run.text) for part in parts])
-    wanted = METHODS if scene.options["method"] == "all" else (scene.options["method"],)
+    wanted = scene_methods(scene)
     if [m.name for m in work.methods] != list(wanted):
         raise ValueError(f"the parts measured {[m.name for m in work.methods]}, "
                          f"the scene asks for {list(wanted)}")

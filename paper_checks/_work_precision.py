@@ -51,7 +51,7 @@ from numerics.scenes import Option, Study, StudyRun, register_study
 from perturb import EQ_2_6, PAPER, ContactModel, compile_series, frequency_response
 from perturb._compiled import formulas_cached
 
-__all__ = ["WorkPrecision", "work_precision", "RK4_POINTS", "SERIES_POINTS"]
+__all__ = ["WorkPrecision", "work_precision", "scene_methods", "RK4_POINTS", "SERIES_POINTS"]
 
 #: (P_a / Q, f_e [Hz]): the primary peak, the 1/2 superharmonic, a bouncing state.
 RK4_POINTS = ((0.05, 1420.0), (0.15, 740.0), (0.5, 1200.0))
@@ -226,11 +226,16 @@ def work_precision(quick: bool = False, methods=METHODS) -> WorkPrecision:
     return WorkPrecision(measured, time.perf_counter() - start)
 
 
+def scene_methods(scene) -> tuple[str, ...]:
+    """The methods a ``work_precision`` scene measures (its option ``method``: "all", or
+    one of ``METHODS``)."""
+    method = scene.options["method"]
+    return METHODS if method == "all" else (method,)
+
+
 def _run_scene_study(scene, model, frequency_hz, quiet) -> StudyRun:
     """The ``work_precision`` scene study (each method runs its own model and points)."""
-    method = scene.options["method"]
-    work = work_precision(quick=scene.options["quick"],
-                          methods=METHODS if method == "all" else (method,))
+    work = work_precision(quick=scene.options["quick"], methods=scene_methods(scene))
     return StudyRun([], "RK4 steady states by steps per period, the series by order, DOP853 "
                         "by rtol; the measurement is the text, as JSON", text=work.to_text())
 

@@ -16,7 +16,7 @@ under a key made of the order and the text of every file that shapes them
 Examples
 --------
 >>> import numpy as np
->>> formulas = compile_series(2)
+>>> formulas = compile_series(2, "paper")
 >>> formulas.arguments
 ('A0', 'omega', 'Omega', 'c', 'h')
 >>> b2 = formulas.b(1e-7, 9000.0, 4000.0, 100.0, 2e14)
@@ -50,12 +50,21 @@ from ._cache import (
     write_generated,
 )
 from ._lindstedt import Series, derive, transfer
+from ._parameters import PAPER, ContactParameters
+from ._truncation import PAPER_TRUNCATION, Truncation, truncation_for
 
-__all__ = ["compile_series", "formulas_cached", "CompiledSeries", "complex_chain"]
+__all__ = ["compile_series", "formulas_cached", "CompiledSeries", "complex_chain",
+           "SeriesFormulas", "lambdified_series", "lambdify_chain", "chain_arguments"]
 
-#: The arguments of every compiled formula, in order.
+#: The arguments of every compiled formula of Eq. 2.6, in order; a series that keeps
+#: more of the equation in contact takes its other coefficients after h.
 A0 = sp.Symbol("A0", positive=True)
 ARGUMENTS = (A0, sym.omega, sym.Omega, sym.c, sym.h)
+
+
+def chain_arguments(coefficients: tuple[tuple[str, int], ...]) -> tuple[sp.Symbol, ...]:
+    """A0, omega, Omega, c, then the coefficients (h = k_2 first)."""
+    return (*ARGUMENTS[:4], *(sym.coefficient(kind, j) for kind, j in coefficients))
 
 
 # Eq. 2.8 in the frame of u0: z_0_1 = conj(z_0_1) = A_0_1 = A0.
@@ -112,54 +121,19 @@ def _compile_step(symbol: sp.Symbol, expr: sp.Expr) -> _Step:
     return _Step(name, kind, tuple(str(s) for s in inputs), function)
 
 
-@dataclass(frozen=True)
-class CompiledSeries:
-    """Lambdified formulas of a series; arguments ``(A0, omega, Omega, c, h)``.
-
-    Every formula of the chain (b_n, means, complex harmonics) is lambdified on
-    its own with ``cse=True`` and evaluated in order, so that nothing is
-    expanded or computed twice.
-
-    Attributes
-    ----------
-    order : int
-    b_orders : tuple of int
-        The n of the non-zero b_n, in the order ``b`` returns them.
-    keys : tuple of (int, int)
-        The (n, k) of the harmonics that ``amplitudes`` returns, in order.
-    """
+class SeriesFormulas:
+    """What every numeric form of a series answers, from its ``evaluate``: the b_n, the
+    frequency shift of Eq. 2.7, the harmonics and the waveform. Arguments are
+    ``(A0, omega, Omega, c, *coefficients)``, the coefficients those ``coefficients``
+    names (h first)."""
 
     order: int
     b_orders: tuple[int, ...]
     keys: tuple[tuple[int, int], ...]
-    steps: tuple[_Step, ...]
-    arguments: tuple[str, ...] = tuple(str(a) for a in ARGUMENTS)
+    coefficients: tuple[tuple[str, int], ...]
 
-    def evaluate(
-        self,
-        A0: npt.ArrayLike,
-        omega: npt.ArrayLike,
-        Omega: npt.ArrayLike,
-        c: npt.ArrayLike,
-        h: npt.ArrayLike,
-        *,
-        until: str | None = None,
-    ) -> dict[str, np.ndarray]:
-        """Run the chain; return every assigned value by name (z_n_k complex)."""
-        env = dict(
-            zip(self.arguments, np.broadcast_arrays(*map(np.asarray, (A0, omega, Omega, c, h))))
-        )
-        env["z_0_1"] = env["zc_0_1"] = env["A_0_1"] = env["A0"]
-        for step in self.steps:
-            value = step.function(*(env[name] for name in step.inputs))
-            if step.kind == "harmonic":
-                env[step.name] = value
-                env["zc" + step.name[1:]] = np.conj(value)
-            else:
-                env[step.name] = np.real(value)
-            if step.name == until:
-                break
-        return env
+    def evaluate(self, *args, until: str | None = None) -> dict[str, np.ndarray]:
+        raise NotImplementedError
 
     def b(self, *args: npt.ArrayLike) -> list[np.ndarray]:
         """The non-zero b_n (real), one per entry of ``b_orders``."""
@@ -195,7 +169,7 @@ class CompiledSeries:
         Examples
         --------
         >>> import numpy as np
-        >>> u = compile_series(0).waveform(np.array([0.0, np.pi]), 2.0, 1.0, 0.5, 0.1, 0.3)
+        >>> u = compile_series(0, "paper").waveform(np.array([0.0, np.pi]), 2.0, 1.0, 0.5, 0.1, 0.3)
         >>> u.tolist()
         [2.0, -2.0]
         """
@@ -205,29 +179,106 @@ class CompiledSeries:
         return np.tensordot(per_harmonic, basis, axes=1).real
 
 
+@dataclass(frozen=True)
+class CompiledSeries(SeriesFormulas):
+    """Lambdified formulas of a series; arguments ``(A0, omega, Omega, c, *coefficients)``.
+
+    Every formula of the chain (b_n, means, complex harmonics) is lambdified on
+    its own with ``cse=True`` and evaluated in order, so that nothing is
+    expanded or computed twice.
+
+    Attributes
+    ----------
+    order : int
+    b_orders : tuple of int
+        The n of the non-zero b_n, in the order ``b`` returns them.
+    keys : tuple of (int, int)
+        The (n, k) of the harmonics that ``amplitudes`` returns, in order.
+    coefficients : tuple of (str, int)
+        The equation's coefficients after c: ("k", 2) (h), then any k_j and d_j the
+        truncation keeps (``Series.coefficients``).
+    """
+
+    order: int
+    b_orders: tuple[int, ...]
+    keys: tuple[tuple[int, int], ...]
+    steps: tuple[_Step, ...]
+    coefficients: tuple[tuple[str, int], ...] = (("k", 2),)
+
+    @property
+    def arguments(self) -> tuple[str, ...]:
+        return tuple(str(a) for a in chain_arguments(self.coefficients))
+
+    def evaluate(
+        self,
+        A0: npt.ArrayLike,
+        omega: npt.ArrayLike,
+        Omega: npt.ArrayLike,
+        c: npt.ArrayLike,
+        *coefficients: npt.ArrayLike,
+        until: str | None = None,
+    ) -> dict[str, np.ndarray]:
+        """Run the chain; return every assigned value by name (z_n_k complex)."""
+        values = (A0, omega, Omega, c, *coefficients)
+        if len(values) != len(self.arguments):
+            raise ValueError(f"expected the arguments {self.arguments}, got {len(values)}.")
+        env = dict(zip(self.arguments, np.broadcast_arrays(*map(np.asarray, values))))
+        env["z_0_1"] = env["zc_0_1"] = env["A_0_1"] = env["A0"]
+        for step in self.steps:
+            value = step.function(*(env[name] for name in step.inputs))
+            if step.kind == "harmonic":
+                env[step.name] = value
+                env["zc" + step.name[1:]] = np.conj(value)
+            else:
+                env[step.name] = np.real(value)
+            if step.name == until:
+                break
+        return env
+
+
 @lru_cache(maxsize=None)
-def compile_series(order: int) -> CompiledSeries:
-    """Compile b_n and the complex amplitudes of the order-N series (cached, in this
-    process and on disk).
+def compile_series(order: int, truncation: str | Truncation = "consistent",
+                   parameters: ContactParameters = PAPER) -> SeriesFormulas:
+    """The order-N series as fast numeric formulas (cached, in this process and on disk).
 
     Parameters
     ----------
     order : int
         The order N >= 0 of the series.
+    truncation : {"consistent", "paper"} or Truncation
+        Which terms of the equation in contact the series keeps (``derive``).
+    parameters : ContactParameters
+        The contact, which tells where its laws' Taylor series end.
 
     Returns
     -------
-    CompiledSeries
+    CompiledSeries or NumericSeries
+        Eq. 2.6's series (the paper's truncation, or a consistent one that keeps the
+        same terms) as its closed forms lambdified (``CompiledSeries``); any other as
+        the same scheme carried out on numbers (``NumericSeries``), whose closed forms
+        grow too fast to compile. Both take ``(A0, omega, Omega, c, *coefficients)``.
     """
+    order = sym.check_order(order)
+    resolved = truncation_for(truncation, parameters)
+    degrees = resolved.at_order(order)
+    if degrees == PAPER_TRUNCATION.at_order(order):
+        return lambdified_series(order)
+    from ._series_numeric import numeric_series
+
+    return numeric_series(order, Truncation(resolved.name, *degrees))
+
+
+@lru_cache(maxsize=None)
+def lambdified_series(order: int) -> CompiledSeries:
+    """The closed forms of Eq. 2.6's order-N series, lambdified (cached, in this process
+    and on disk)."""
     path = _formulas_path(order)
     if formulas_cached(order):
         try:
             return _from_module(_import_formulas(path, order))
         except Exception:  # a garbled file: derived again, and written anew
             remove_generated(path)
-    series = derive(order)
-    steps = tuple(_compile_step(symbol, expr) for symbol, expr in complex_chain(series))
-    compiled = CompiledSeries(series.order, series_b_orders(series), series_keys(series), steps)
+    compiled = lambdify_chain(derive(order, "paper"))
     source = _formulas_source(compiled)
     if source is not None:
         try:
@@ -238,9 +289,18 @@ def compile_series(order: int) -> CompiledSeries:
     return compiled
 
 
+def lambdify_chain(series: Series) -> CompiledSeries:
+    """The closed forms of any derived series, lambdified (not cached: a consistent
+    series past order 4 or so takes long; ``compile_series`` evaluates those by
+    ``NumericSeries``, and the tests hold the two routes together)."""
+    steps = tuple(_compile_step(symbol, expr) for symbol, expr in complex_chain(series))
+    return CompiledSeries(series.order, series_b_orders(series), series_keys(series), steps,
+                          series.coefficients)
+
+
 def formulas_cached(order: int) -> bool:
-    """Whether the order's formulas are on disk, whole (``compile_series`` then derives
-    nothing)."""
+    """Whether the formulas of Eq. 2.6's order-N series are on disk, whole
+    (``compile_series`` then derives nothing)."""
     return intact(_formulas_path(order))
 
 

@@ -3,15 +3,17 @@
 A ``Term`` is one summand of a right side of the order-by-order equations
 (Eq. 2.9, 2.10, A.1, A.2)::
 
-    number * h**h_power * prod(b_j) * prod(A_f) * cos(k Omega t + sum(sign_f phi_f))
+    number * prod(k_j, d_j) * prod(b_j) * prod(A_f) * cos(k Omega t + sum(sign_f phi_f))
 
 where each factor ``f`` is one harmonic ``A_f cos(k_f Omega t + phi_f)`` of a
-lower-order solution (a mean factor has no phase). A product of two cosines is
+lower-order solution (a mean factor has no phase), or of its derivative, which
+carries k_f Omega and pi/2 more phase (the damping terms d_j u^j u'). A product of two cosines is
 split by ``cos a cos b = (cos(a + b) + cos(a - b)) / 2``, exactly as in the
 paper's second lines of Eq. 2.9 and 2.10.
 
 The same term has a complex value, with ``z_f = A_f exp(i phi_f)``:
-``number * h**h_power * prod(b_j) * prod(z_f or conj(z_f))``, whose real part
+``number * prod(k_j, d_j) * prod(b_j) * prod(z_f or conj(z_f))`` (times i k_f Omega
+for a derivative), whose real part
 times ``exp(i k Omega t)`` is the term; that form is the one that is compiled.
 
 Examples
@@ -36,15 +38,30 @@ __all__ = ["Factor", "Term", "solution_term", "multiply", "merge", "by_harmonic"
 
 @dataclass(frozen=True, order=True)
 class Factor:
-    """Harmonic ``harmonic`` of the order-``order`` solution, with phase sign ``sign``."""
+    """Harmonic ``harmonic`` of the order-``order`` solution, with phase sign ``sign``.
+
+    A ``derivative`` factor is that harmonic of u_n', k Omega A cos(k Omega t + phi + pi/2)
+    (the damping terms d_j u^j u' of the equation in contact); a mean has none.
+    """
 
     order: int
     harmonic: int
     sign: int = 1
+    derivative: bool = False
 
     @property
     def is_mean(self) -> bool:
         return self.harmonic == 0
+
+    def angle(self) -> sp.Expr:
+        """The phase this factor puts in the cosine: sign (phi_n_k + pi/2 if a derivative)."""
+        phase = sym.phase(self.order, self.harmonic) + (sp.pi / 2 if self.derivative else 0)
+        return self.sign * phase
+
+    def scale(self) -> sp.Expr:
+        """The factor's amplitude: A_n_k, times k Omega for a derivative."""
+        amplitude = sym.amplitude(self.order, self.harmonic)
+        return amplitude * self.harmonic * sym.Omega if self.derivative else amplitude
 
     def flipped(self) -> "Factor":
         return self if self.is_mean else replace(self, sign=-self.sign)
@@ -52,33 +69,39 @@ class Factor:
 
 @dataclass(frozen=True)
 class Term:
-    """``number h^h_power prod(b) prod(A) cos(harmonic Omega t + phase)``."""
+    """``number prod(k_j, d_j) prod(b) prod(A) cos(harmonic Omega t + phase)``.
+
+    ``coefficients`` names the equation's coefficients in the product, ("k", j) for
+    k_j (("k", 2) is Eq. 2.6's h) and ("d", j) for d_j, sorted.
+    """
 
     number: Fraction
     harmonic: int
     factors: tuple[Factor, ...] = ()
     bs: tuple[int, ...] = ()
-    h_power: int = 0
+    coefficients: tuple[tuple[str, int], ...] = ()
 
     @property
     def key(self) -> tuple:
-        return (self.harmonic, self.factors, self.bs, self.h_power)
+        return (self.harmonic, self.factors, self.bs, self.coefficients)
 
     @property
     def has_phase(self) -> bool:
         return any(not f.is_mean for f in self.factors)
 
-    def scaled(self, number: Fraction, *, h_power: int = 0, bs: tuple[int, ...] = ()) -> "Term":
+    def scaled(self, number: Fraction, *, coefficients: tuple[tuple[str, int], ...] = (),
+               bs: tuple[int, ...] = ()) -> "Term":
         return replace(
             self,
             number=self.number * number,
-            h_power=self.h_power + h_power,
+            coefficients=tuple(sorted(self.coefficients + coefficients)),
             bs=tuple(sorted(self.bs + bs)),
         )
 
     def _prefactor(self) -> sp.Expr:
-        """number * h**h_power * prod(b_j): the part without amplitudes."""
-        value = sp.Rational(self.number.numerator, self.number.denominator) * sym.h**self.h_power
+        """number * prod(k_j, d_j) * prod(b_j): the part without amplitudes."""
+        value = sp.Rational(self.number.numerator, self.number.denominator)
+        value *= sp.Mul(*(sym.coefficient(kind, j) for kind, j in self.coefficients))
         return value * sp.Mul(*(sym.b(j) for j in self.bs))
 
     # -- the printed form (cosine with amplitude and phase) -------------
@@ -86,14 +109,12 @@ class Term:
         """The real coefficient in front of the cosine."""
         value = self._prefactor()
         for f in self.factors:
-            value *= sym.amplitude(f.order, f.harmonic)
+            value *= f.scale()
         return value
 
     def phase(self) -> sp.Expr:
-        """The phase inside the cosine (a sum of +-phi_n_k)."""
-        return sp.Add(
-            *(f.sign * sym.phase(f.order, f.harmonic) for f in self.factors if not f.is_mean)
-        )
+        """The phase inside the cosine (a sum of +-phi_n_k, and +-pi/2 per derivative)."""
+        return sp.Add(*(f.angle() for f in self.factors if not f.is_mean))
 
     # -- the complex form ----------------------------------------------
     def value(self, conjugate: bool = False) -> sp.Expr:
@@ -103,7 +124,10 @@ class Term:
             if f.is_mean:
                 value *= sym.amplitude(f.order, 0)
             else:
-                value *= sym.complex_amplitude(f.order, f.harmonic, (f.sign < 0) != conjugate)
+                conjugated = (f.sign < 0) != conjugate
+                value *= sym.complex_amplitude(f.order, f.harmonic, conjugated)
+                if f.derivative:  # d/dt of z exp(i k Omega t): i k Omega z (conjugated: -i)
+                    value *= (-1 if conjugated else 1) * sp.I * f.harmonic * sym.Omega
         return value
 
     def printed(self) -> sp.Expr:
@@ -115,9 +139,10 @@ class Term:
         return str(self.printed())
 
 
-def solution_term(order: int, harmonic: int) -> Term:
-    """``A_n_k cos(k Omega t + phi_n_k)``, one harmonic of the order-n solution."""
-    return Term(Fraction(1), harmonic, (Factor(order, harmonic, 1),))
+def solution_term(order: int, harmonic: int, derivative: bool = False) -> Term:
+    """``A_n_k cos(k Omega t + phi_n_k)``, one harmonic of the order-n solution (or of
+    its derivative, ``k Omega A_n_k cos(k Omega t + phi_n_k + pi/2)``)."""
+    return Term(Fraction(1), harmonic, (Factor(order, harmonic, 1, derivative),))
 
 
 def _canonical(number: Fraction, harmonic: int, factors: list[Factor], a: Term, b: Term) -> Term:
@@ -134,7 +159,7 @@ def _canonical(number: Fraction, harmonic: int, factors: list[Factor], a: Term, 
         harmonic,
         tuple(factors),
         tuple(sorted(a.bs + b.bs)),
-        a.h_power + b.h_power,
+        tuple(sorted(a.coefficients + b.coefficients)),
     )
 
 

@@ -35,9 +35,11 @@ from . import _series_symbols as sym
 from . import _symbols as model_symbols
 from ._eq26 import Eq26
 from ._harmonics import Term, by_harmonic, merge, multiply, solution_term
+from ._parameters import PAPER, ContactParameters
+from ._truncation import PAPER_TRUNCATION, Truncation, truncation_for
 
 __all__ = ["derive", "Series", "OrderEquation", "transfer", "gain_closed_form", "lag_closed_form"]
-__all__ += ["equation_2_6", "eq26_substitution"]
+__all__ += ["equation_2_6", "equation_in_contact", "eq26_substitution"]
 
 
 def transfer(k: int) -> sp.Expr:
@@ -84,8 +86,11 @@ class OrderEquation:
         return tuple(self.rhs)
 
 
-def _right_side(order: int, solutions: list[tuple[int, ...]], has_b: list[bool]) -> list[Term]:
-    """sum_{k=1..n-1} b_k u_{n-k} - h sum_{i+j=n-1} u_i u_j (without b_n u0)."""
+def _right_side(order: int, solutions: list[tuple[int, ...]], has_b: list[bool],
+                products: _Products) -> list[Term]:
+    """sum_{k=1..n-1} b_k u_{n-k} - h sum_{i+j=n-1} u_i u_j (without b_n u0), and the
+    terms of the equation in contact that Eq. 2.6 leaves out, where the truncation keeps
+    them: - k_j (u^j)_(n-j+1) for j >= 3 and - d_j (u^j u')_(n-j) for j >= 1."""
     terms: list[Term] = []
     for k in range(1, order):
         if has_b[k]:
@@ -93,22 +98,72 @@ def _right_side(order: int, solutions: list[tuple[int, ...]], has_b: list[bool])
                 solution_term(order - k, m).scaled(Fraction(1), bs=(k,))
                 for m in solutions[order - k]
             ]
-    for i in range(order):
-        j = order - 1 - i
-        for ki in solutions[i]:
-            for kj in solutions[j]:
-                products = multiply(solution_term(i, ki), solution_term(j, kj))
-                terms += [p.scaled(Fraction(-1), h_power=1) for p in products]
+    spring, damping = products.degrees
+    if spring >= 2:  # Eq. 2.9, 2.10, A.1, A.2: - h sum_{i+j=n-1} u_i u_j
+        for i in range(order):
+            j = order - 1 - i
+            for ki in solutions[i]:
+                for kj in solutions[j]:
+                    pair = multiply(solution_term(i, ki), solution_term(j, kj))
+                    terms += [p.scaled(Fraction(-1), coefficients=(("k", 2),)) for p in pair]
+    for j in range(3, min(spring, order + 1) + 1):
+        terms += [p.scaled(Fraction(-1), coefficients=(("k", j),))
+                  for p in products.power(j, order - j + 1)]
+    for j in range(1, min(damping, order) + 1):
+        terms += [p.scaled(Fraction(-1), coefficients=(("d", j),))
+                  for p in products.with_velocity(j, order - j)]
     return merge(terms)
 
 
-def _derive_orders(order: int) -> list[OrderEquation]:
+class _Products:
+    """(u^j)_m and (u^j u')_m: the terms of eps^m in u^j and u^j u', for the solutions
+    known so far, each computed once (every later order reuses them)."""
+
+    def __init__(self, solutions: list[tuple[int, ...]], degrees: tuple[int, int]) -> None:
+        self.solutions = solutions
+        self.degrees = degrees
+        self._powers: dict[tuple[int, int], list[Term]] = {}
+        self._velocity: dict[tuple[int, int], list[Term]] = {}
+
+    def _times(self, terms: list[Term], m: int, derivative: bool) -> list[Term]:
+        out: list[Term] = []
+        for k in self.solutions[m]:
+            if derivative and k == 0:
+                continue  # a mean has no derivative
+            factor = solution_term(m, k, derivative)
+            for term in terms:
+                out += multiply(term, factor)
+        return out
+
+    def power(self, j: int, m: int) -> list[Term]:
+        """The terms of eps^m in u^j = (sum_i eps^i u_i)^j."""
+        if j == 1:
+            return [solution_term(m, k) for k in self.solutions[m]]
+        if (j, m) not in self._powers:
+            terms: list[Term] = []
+            for i in range(m + 1):
+                terms += self._times(self.power(j - 1, m - i), i, False)
+            self._powers[(j, m)] = merge(terms)
+        return self._powers[(j, m)]
+
+    def with_velocity(self, j: int, m: int) -> list[Term]:
+        """The terms of eps^m in u^j u'."""
+        if (j, m) not in self._velocity:
+            terms: list[Term] = []
+            for i in range(m + 1):
+                terms += self._times(self.power(j, m - i), i, True)
+            self._velocity[(j, m)] = merge(terms)
+        return self._velocity[(j, m)]
+
+
+def _derive_orders(order: int, truncation: Truncation) -> list[OrderEquation]:
     # Eq. 2.8: u0 = A0 cos(Omega t + phi0), the linear response to G cos(Omega t).
     equations = [OrderEquation(0, {1: []}, [])]
     solutions: list[tuple[int, ...]] = [(1,)]
     has_b = [False]
+    products = _Products(solutions, truncation.at_order(order))
     for n in range(1, order + 1):
-        terms = by_harmonic(_right_side(n, solutions, has_b))
+        terms = by_harmonic(_right_side(n, solutions, has_b, products))
         sources = list(terms.get(1, []))
         if sources:
             # b_n u0 joins the fundamental; b_n is fixed below (Eq. 2.10, A.2).
@@ -120,16 +175,26 @@ def _derive_orders(order: int) -> list[OrderEquation]:
 
 
 class Series:
-    """The perturbation series of Eq. 2.6 to a given order, once derived.
+    """The perturbation series of the equation in contact to a given order, once derived.
 
     Use :func:`derive`, which caches the result. Every closed form is written
     with the systematic names of ``perturb._series_symbols``: A_n_k, phi_n_k
-    (solution), F_n_k, psi_n_k (right side), b_n, H_k and theta_k (transfer).
+    (solution), F_n_k, psi_n_k (right side), b_n, H_k and theta_k (transfer),
+    and the equation's coefficients h = k_2, k_j and d_j that ``truncation`` keeps.
     """
 
-    def __init__(self, order: int) -> None:
+    def __init__(self, order: int, truncation: Truncation = PAPER_TRUNCATION) -> None:
         self.order = sym.check_order(order)
-        self.equations = _derive_orders(self.order)
+        self.truncation = truncation
+        self.equations = _derive_orders(self.order, truncation)
+
+    @property
+    def coefficients(self) -> tuple[tuple[str, int], ...]:
+        """The equation's coefficients the series holds past c: ("k", j) for k_j, j >= 2,
+        then ("d", j) for d_j, j >= 1 (the compiled formulas' arguments after c)."""
+        spring, damping = self.truncation.at_order(self.order)
+        return (("k", 2), *(("k", j) for j in range(3, spring + 1)),
+                *(("d", j) for j in range(1, damping + 1)))
 
     # -- structure -----------------------------------------------------------
     def harmonics(self, n: int) -> tuple[int, ...]:
@@ -207,7 +272,10 @@ class Series:
     def __repr__(self) -> str:
         bs = [sym.b(n) if self.has_b(n) else 0 for n in range(1, self.order + 1)]
         harmonics = [self.harmonics(n) for n in range(self.order + 1)]
-        return f"Series(order={self.order}, b={bs}, harmonics={harmonics})"
+        kept = "" if self.truncation.is_paper_equation() else (
+            f", truncation={self.truncation.name!r}, "
+            f"terms={[str(sym.coefficient(*c)) for c in self.coefficients]}")
+        return f"Series(order={self.order}, b={bs}, harmonics={harmonics}{kept})"
 
 
 def equation_2_6(u: sp.Expr) -> sp.Expr:
@@ -220,6 +288,15 @@ def equation_2_6(u: sp.Expr) -> sp.Expr:
         + sym.h * u**2
         - sym.G * sp.cos(sym.Omega * t)
     )
+
+
+def equation_in_contact(u: sp.Expr, series: Series) -> sp.Expr:
+    """Left minus right side of the equation in contact that ``series`` solves, in the
+    series' symbols (eps = 1): Eq. 2.6 and the k_j u^j, d_j u^j u' its truncation keeps."""
+    t = sym.t
+    extra = sp.Add(*(sym.coefficient(kind, j) * u**j * (sp.diff(u, t) if kind == "d" else 1)
+                     for kind, j in series.coefficients if (kind, j) != ("k", 2)))
+    return equation_2_6(u) + extra
 
 
 def eq26_substitution(eq: Eq26) -> dict[sp.Symbol, sp.Expr]:
@@ -245,14 +322,21 @@ def eq26_substitution(eq: Eq26) -> dict[sp.Symbol, sp.Expr]:
     }
 
 
-@lru_cache(maxsize=None)
-def derive(order: int) -> Series:
-    """Derive the series of Eq. 2.6 to ``order`` (cached: a second call is free).
+def derive(order: int, truncation: str | Truncation = "consistent",
+           parameters: ContactParameters = PAPER) -> Series:
+    """Derive the series of the equation in contact to ``order`` (cached: a second call
+    is free).
 
     Parameters
     ----------
     order : int
         The highest power N of eps kept, N >= 0.
+    truncation : {"consistent", "paper"} or Truncation
+        "consistent": every term k_j u^j (at eps^(j-1)) and d_j u^j u' (at eps^j) of the
+        equation in contact up to eps^N; "paper": Eq. 2.6 (h = k_2 and linear damping).
+    parameters : ContactParameters
+        The contact, which tells where its laws' Taylor series end (an integer m2 or l):
+        the consistent series of the paper's contact has h and d_1 only.
 
     Returns
     -------
@@ -260,11 +344,20 @@ def derive(order: int) -> Series:
 
     Examples
     --------
-    >>> derive(2).harmonics(2)
+    >>> derive(2, "paper").harmonics(2)
     (1, 3)
+    >>> derive(2).coefficients  # the paper's contact: h and d_1 (l = 1)
+    (('k', 2), ('d', 1))
     >>> derive(-1)
     Traceback (most recent call last):
     ...
     ValueError: `order` must be an integer >= 0, got -1.
     """
-    return Series(sym.check_order(order))
+    order = sym.check_order(order)
+    resolved = truncation_for(truncation, parameters)
+    return _derive(order, resolved.name, *resolved.at_order(order))
+
+
+@lru_cache(maxsize=None)
+def _derive(order: int, name: str, spring: int, damping: int) -> Series:
+    return Series(order, Truncation(name, spring, damping))

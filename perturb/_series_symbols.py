@@ -11,6 +11,8 @@ per order ``n`` and harmonic ``k`` of the excitation:
 - ``F_n_k``, ``psi_n_k``: amplitude and phase of harmonic ``k`` of the right
   side of the order-``n`` equation;
 - ``b_n``: the frequency corrections, ``omega^2 = omega0^2 + sum_n eps^n b_n``;
+- ``k_j``, ``d_j``: the coefficients of u^j and u^j u' of the equation in contact
+  (``_truncation.py``); k_2 is Eq. 2.6's ``h``, d_0 is ``2c``;
 - ``H_k``, ``theta_k``: gain and phase of the linear transfer of harmonic ``k``,
   ``1 / (omega^2 - k^2 Omega^2 + 2 i k c Omega) = H_k exp(i theta_k)``.
 
@@ -30,7 +32,7 @@ from common import check_int
 
 __all__ = ["c", "h", "G", "omega", "omega0", "Omega", "eps", "t"]
 __all__ += ["amplitude", "phase", "forcing_amplitude", "forcing_phase", "b", "gain", "lag"]
-__all__ += ["complex_amplitude", "check_order"]
+__all__ += ["complex_amplitude", "check_order", "stiffness", "damping", "coefficient"]
 
 # Coefficients of Eq. 2.6 (c, h, G, omega0) and of the series (Eq. 2.7).
 c, h, omega, omega0, Omega = sp.symbols("c h omega omega0 Omega", positive=True)
@@ -75,6 +77,23 @@ def gain(k: int) -> sp.Symbol:
 @lru_cache(maxsize=None)
 def lag(k: int) -> sp.Symbol:
     return sp.Symbol(f"theta_{k}", real=True)
+
+
+@lru_cache(maxsize=None)
+def stiffness(j: int) -> sp.Symbol:
+    """k_j, the coefficient of u^j in the restoring force over M; k_2 is Eq. 2.6's h."""
+    return h if j == 2 else sp.Symbol(f"k_{j}", real=True)
+
+
+@lru_cache(maxsize=None)
+def damping(j: int) -> sp.Symbol:
+    """d_j, the coefficient of u^j u' in the damping force over M (d_0 = 2c)."""
+    return 2 * c if j == 0 else sp.Symbol(f"d_{j}", real=True)
+
+
+def coefficient(kind: str, j: int) -> sp.Expr:
+    """k_j (``kind`` "k") or d_j (``kind`` "d"): a coefficient of the equation in contact."""
+    return stiffness(j) if kind == "k" else damping(j)
 
 
 @lru_cache(maxsize=None)

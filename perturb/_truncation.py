@@ -1,0 +1,153 @@
+"""Which terms of the equation in contact a series keeps: the truncation.
+
+In contact (y > 0) the model of Eq. 2.4, divided by M and written in u = y - y0,
+is Eq. 2.5 carried on to every power:
+
+    u'' + sum_{j>=1} k_j u^j + sum_{j>=0} d_j u^j u' = G cos(Omega t)
+
+with k_j = -(1/M) (1/j!) d^j(F_s + Q)/dy^j and d_j = -(1/M) (1/j!) d^j(dF_d/dydot)/dy^j
+at y0. For the power laws of Eq. 2.1,
+
+    k_j = (S c_n / M) binom(m2, j) y0^(m2 - j),    d_j = (S h_n / M) binom(l, j) y0^(l - j),
+
+so k_1 = omega0^2, k_2 = eps h, d_0 = 2c (Eq. 2.6). The sums end where a law is a
+polynomial: k_j = 0 for j > m2 when m2 is an integer, d_j = 0 for j > l when l is one.
+
+A series of order N counts k_j u^j at eps^(j-1) and d_j u^j u' at eps^j, so it carries
+every term of the equation up to eps^N: the **consistent** truncation. The **paper**
+truncation is Eq. 2.6: k_2 only and linear damping, which is the consistent one only
+for m2 = 2 and l = 0. A ``Truncation`` records the highest j of each sum, which is all
+that the derivation (``_lindstedt.py``) needs to know.
+
+Examples
+--------
+>>> truncation_for("paper")
+Truncation(name='paper', spring_degree=2, damping_degree=0)
+>>> from perturb._parameters import ContactParameters
+>>> truncation_for("consistent", ContactParameters(m2=1.5, l=0.5))
+Truncation(name='consistent', spring_degree=None, damping_degree=None)
+>>> [round(x, 6) for x in coefficient_values(("k", "d"), (3, 1), ContactParameters(m2=3.0))]
+[0.0, 0.0]
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ._parameters import PAPER, ContactParameters
+
+__all__ = ["Truncation", "TRUNCATIONS", "truncation_for", "coefficient_values",
+           "binomial", "coefficient_closed_form"]
+
+#: The truncations by name: "consistent" (every term up to the order) and "paper" (Eq. 2.6).
+TRUNCATIONS = ("consistent", "paper")
+
+
+@dataclass(frozen=True)
+class Truncation:
+    """The terms of the equation in contact that a series keeps.
+
+    Attributes
+    ----------
+    name : str
+        "consistent" or "paper".
+    spring_degree : int or None
+        The highest j of k_j u^j kept (None: every j that the order reaches).
+    damping_degree : int or None
+        The highest j of d_j u^j u' kept (0: linear damping; None: every j).
+    """
+
+    name: str
+    spring_degree: int | None
+    damping_degree: int | None
+
+    def at_order(self, order: int) -> tuple[int, int]:
+        """(highest j of k_j, highest j of d_j) that a series of ``order`` carries:
+        k_j enters at eps^(j-1), d_j at eps^j."""
+        spring = order + 1 if self.spring_degree is None else min(self.spring_degree, order + 1)
+        damping = order if self.damping_degree is None else min(self.damping_degree, order)
+        return max(spring, 1), max(damping, 0)
+
+    def is_paper_equation(self) -> bool:
+        """Whether the kept terms are Eq. 2.6's (k_2 and linear damping, nothing more)."""
+        return (self.spring_degree, self.damping_degree) == (2, 0)
+
+
+PAPER_TRUNCATION = Truncation("paper", 2, 0)
+
+
+def _polynomial_degree(exponent: float) -> int | None:
+    """The degree of y^exponent as a polynomial in u = y - y0, or None if it is none."""
+    return int(exponent) if float(exponent).is_integer() else None
+
+
+def truncation_for(name: str | Truncation, parameters: ContactParameters = PAPER) -> Truncation:
+    """The truncation ``name`` ("consistent" or "paper") for the contact ``parameters``.
+
+    The consistent truncation's sums end where the law is a polynomial (an integer m2
+    or l); a ``Truncation`` is returned as it is.
+    """
+    if isinstance(name, Truncation):
+        return name
+    if name not in TRUNCATIONS:
+        raise ValueError(f"`truncation` must be one of {list(TRUNCATIONS)}, got {name!r}.")
+    if not isinstance(parameters, ContactParameters):
+        raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
+    if name == "paper":
+        return PAPER_TRUNCATION
+    return Truncation("consistent", _polynomial_degree(parameters.m2),
+                      _polynomial_degree(parameters.l))
+
+
+def binomial(exponent: float, j: int) -> float:
+    """binom(exponent, j) = exponent (exponent - 1) ... (exponent - j + 1) / j!."""
+    value = 1.0
+    for i in range(j):
+        value *= (exponent - i) / (i + 1)
+    return value
+
+
+def coefficient_values(kinds: tuple[str, ...], indices: tuple[int, ...],
+                       parameters: ContactParameters, y0_m: float | None = None) -> list[float]:
+    """k_j and d_j at ``parameters``, in closed form (the module's docstring), without sympy.
+
+    ``kinds[i]`` is "k" or "d" and ``indices[i]`` its j; ``y0_m`` the static deflection
+    (computed from the parameters when not given). tests/test_truncation.py holds these
+    against the Taylor coefficients that sympy derives from ``ContactModel``.
+    """
+    p = parameters
+    y0 = (p.M * p.g / (p.S * p.c_n)) ** (1 / p.m2) if y0_m is None else y0_m
+    values = []
+    for kind, j in zip(kinds, indices):
+        if kind == "k":
+            values.append(p.S * p.c_n / p.M * binomial(p.m2, j) * y0 ** (p.m2 - j))
+        else:
+            values.append(p.S * p.h_n / p.M * binomial(p.l, j) * y0 ** (p.l - j))
+    return [0.0 if v == 0 else float(v) for v in values]
+
+
+def coefficient_closed_form(kind: str, j: int):
+    """k_j or d_j as an expression of S, c_n, m2, h_n, l, M and y0 (sympy), Taylor's
+    coefficient of the model's own force law (``ContactModel``) at y0."""
+    import sympy as sp
+
+    from ._model import ContactModel
+    from ._symbols import M, g, v, y
+
+    y0 = sp.Symbol("y0", positive=True)
+    model = ContactModel()
+    if kind == "k":
+        law = model.power_spring(y) + M * g
+    else:
+        law = sp.diff(model.power_damping(y, v), v)
+    value = -sp.diff(law, y, j).subs(y, y0) / (sp.factorial(j) * M)
+    return sp.simplify(value)
+
+
+def check_finite_coefficients(values: list[float], names: list[str]) -> None:
+    """Raise a ValueError naming a coefficient that is not a finite number."""
+    for value, name in zip(values, names):
+        if not math.isfinite(value):
+            raise ValueError(f"the coefficient {name} of the equation in contact is {value!r} "
+                             "at these parameters: the series cannot be evaluated.")

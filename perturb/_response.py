@@ -43,17 +43,19 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 import numpy.typing as npt
 
 from common import Result, check_choice, check_int, check_pair, check_positive, lane_array, result
 
-from ._effects import EQ_2_6
+from ._effects import EQ_2_6, FULL
 from ._model import ContactModel
-from ._numbers import Eq26Numbers, eq26_numbers
+from ._numbers import Eq26Numbers
 from ._parameters import PAPER, ContactParameters
 from ._response_codegen import NEXT_ORDERS, series_kernels, series_kernels_built
+from ._truncation import PAPER_TRUNCATION, Truncation, series_values, truncation_for
 
 __all__ = ["frequency_response", "Response", "Branch"]
 
@@ -302,8 +304,9 @@ def frequency_response(
     samples: int = 256,
     tolerance: float = 0.01,
     engine: str = "auto",
+    truncation: str = "consistent",
 ) -> Response:
-    """Every response of the order-N series of Eq. 2.6 at each frequency.
+    """Every response of the order-N series of the equation in contact at each frequency.
 
     Parameters
     ----------
@@ -336,7 +339,14 @@ def frequency_response(
         10-20 s; then some 10x faster than numpy); "numpy": the residual grid in
         numpy (no build); "auto": compiled where the order's kernels are built,
         numpy otherwise. Both give the same branches, roots (within 1e-13) and
-        validity.
+        validity. The compiled kernels are those of Eq. 2.6: a series that keeps
+        more of the equation in contact takes the numpy route (``NumericSeries``).
+    truncation : {"consistent", "paper"}
+        "consistent": every term k_j u^j and d_j u^j u' of the contact's equation up
+        to eps^N (``derive``); "paper": Eq. 2.6 (h and linear damping). The error
+        estimate of "paper" includes its distance to the contact's own equation
+        (the consistent series of order N+2), except on the paper's contact itself
+        (m2 = 2, l = 1), whose flags stay the paper's.
 
     Returns
     -------
@@ -366,8 +376,9 @@ def frequency_response(
     samples = check_int("samples", samples, minimum=3)
     tolerance = check_positive("tolerance", tolerance)
     check_choice("engine", engine, ENGINES)
-    solve = _chunk_solver(engine, order)
-    values = eq26_numbers(parameters)
+    resolved = truncation_for(truncation, parameters)
+    solve = _chunk_solver(engine, order, resolved)
+    values = series_values(parameters)
     Omega = 2 * np.pi * freq
     G = pa_frac * values.Q_n * values.G_per_P_a
     if G == 0:
@@ -385,9 +396,9 @@ def frequency_response(
         pa_frac=pa_frac,
         frequency_hz=freq,
         branches=branches,
-        model=_eq26_model(parameters),
+        model=_series_model(parameters, resolved),
         settings={"omega_range": list(omega_range), "grid_points": grid_points,
-                  "samples": samples, "tolerance": tolerance},
+                  "samples": samples, "tolerance": tolerance, "truncation": resolved.name},
         elapsed_s=time.perf_counter() - start,
     )
 
@@ -396,16 +407,23 @@ def frequency_response(
 ENGINES = ("auto", "compiled", "numpy")
 
 
-def _chunk_solver(engine: str, order: int):
+def _chunk_solver(engine: str, order: int, truncation: Truncation):
     """The chunk solver of ``engine``: "auto" takes the compiled kernels only where the
-    order's are built already (building them costs 10-20 s once; numpy needs none)."""
+    order's are built already (building them costs 10-20 s once; numpy needs none).
+    The compiled kernels are Eq. 2.6's: any other truncation is solved in numpy."""
+    eq26 = truncation.at_order(order + 2) == PAPER_TRUNCATION.at_order(order + 2)
+    if engine == "compiled" and not eq26:
+        raise ValueError(
+            "`engine='compiled'` has kernels for Eq. 2.6's series only (truncation='paper'); "
+            f"the {truncation.name!r} series of this contact is solved by engine='numpy' or "
+            "'auto'.")
     if engine == "auto":
-        engine = "compiled" if series_kernels_built(order) else "numpy"
+        engine = "compiled" if eq26 and series_kernels_built(order) else "numpy"
     if engine == "compiled":
-        return _solve_chunk
+        return partial(_solve_chunk, truncation=truncation)
     from ._response_numpy import solve_chunk
 
-    return solve_chunk
+    return partial(solve_chunk, truncation=truncation)
 
 
 def _chunks(size: int, chunk: int) -> list[slice]:
@@ -413,7 +431,7 @@ def _chunks(size: int, chunk: int) -> list[slice]:
 
 
 def _solve_chunk(values, G, Omega, order, omega_range, grid_points, samples, tolerance,
-                 offset: int) -> tuple[np.ndarray, ...]:
+                 offset: int, truncation: Truncation) -> tuple[np.ndarray, ...]:
     """Every root of the frequencies ``Omega``, with App, extrema, validity and error;
     rows count from ``offset``."""
     kernels = series_kernels(order)
@@ -423,13 +441,27 @@ def _solve_chunk(values, G, Omega, order, omega_range, grid_points, samples, tol
     u_max, u_min = np.empty(roots.size), np.empty(roots.size)
     kernels.waveform_extrema(base.real[0], base.imag[0], base.lag, *tables, u_max, u_min)
     error = truncation_error(kernels, values, G, Omega, rows, base, u_max - u_min, tables)
+    if truncation.name == "paper":
+        error = np.maximum(error, _model_distance(order, values, G, Omega, rows, base,
+                                                  u_max - u_min, samples))
     valid = (values.y0_m + u_min > 0) & (error < tolerance)
     return rows + offset, roots, base.a0, u_min, u_max, valid, error
 
 
-def _eq26_model(parameters: ContactParameters) -> dict:
-    """The model whose equation the series solves (Eq. 2.6), as data."""
-    return ContactModel(parameters, EQ_2_6).as_dict()
+def _model_distance(order, values, G, Omega, rows, base: _Roots, app, samples) -> np.ndarray:
+    """``_response_numpy.model_distance`` of the compiled roots (their waveforms sampled)."""
+    from ._response_numpy import model_distance, sample_waveform
+
+    k = np.arange(base.real.shape[1])
+    per_harmonic = (base.real[0] + 1j * base.imag[0]).T * np.exp(1j * np.outer(base.lag, k))
+    u = sample_waveform(per_harmonic, samples)
+    return model_distance(order, values, G, Omega, rows, base.omega, u, app)
+
+
+def _series_model(parameters: ContactParameters, truncation: Truncation) -> dict:
+    """The model whose equation the series solves, as data: Eq. 2.6 (the effects
+    ``EQ_2_6``) for the paper's truncation, the contact's own laws otherwise."""
+    return ContactModel(parameters, EQ_2_6 if truncation.name == "paper" else FULL).as_dict()
 
 
 def _at_rest(freq: np.ndarray, omega0: float) -> Branch:

@@ -18,6 +18,7 @@ import numpy as np
 
 from ._compiled import CompiledSeries, compile_series
 from ._response import _RESONANCE_OFFSETS, _match_distance
+from ._truncation import PAPER_TRUNCATION, Truncation, truncation_for
 
 __all__ = ["solve_chunk", "harmonics_in_drive_frame", "sample_waveform", "refined_at"]
 
@@ -33,9 +34,14 @@ def _residual(formulas: CompiledSeries, values, G, omega, Omega):
         part = slice(start, start + _CHUNK)
         w, W = omega[part], Omega[part]
         a0 = G[part] / np.hypot(w**2 - W**2, 2 * values.c_per_s * W)
-        shift = formulas.frequency_shift(a0, w, W, values.c_per_s, values.h_per_m_s2)
+        shift = formulas.frequency_shift(a0, w, W, *_arguments(formulas, values))
         flat[part] = w**2 - values.omega0_rad_s**2 - shift
     return out
+
+
+def _arguments(formulas, values) -> tuple[float, ...]:
+    """c and the equation's coefficients that ``formulas`` take (h first)."""
+    return (values.c_per_s, *values.coefficients(formulas.coefficients))
 
 
 def _omega_grid(Omega, order, values, omega_range, points):
@@ -142,7 +148,7 @@ def harmonics_in_drive_frame(formulas, values, a0, omega, Omega) -> np.ndarray:
     can be subtracted, and the simulator's orbit (which starts at the drive's
     phase 0) can be started on them.
     """
-    amplitudes = formulas.amplitudes(a0, omega, Omega, values.c_per_s, values.h_per_m_s2)
+    amplitudes = formulas.amplitudes(a0, omega, Omega, *_arguments(formulas, values))
     per_harmonic = formulas.harmonics([np.broadcast_to(z, a0.shape) for z in amplitudes])
     theta_1 = -np.angle(omega**2 - Omega**2 + 2j * values.c_per_s * Omega)
     k = np.arange(per_harmonic.shape[-1])
@@ -213,7 +219,8 @@ def _nearby_root(formulas, values, G, Omega, start, distance, iterations=30):
     return x1, found
 
 
-def truncation_error(order, values, G, Omega, rows, roots, base, app) -> np.ndarray:
+def truncation_error(order, values, G, Omega, rows, roots, base, app,
+                     truncation: Truncation = PAPER_TRUNCATION) -> np.ndarray:
     """An a-posteriori estimate of the relative error of the order-N response.
 
     max over k = 1, 2 of pp(u_(N+k) - u_N) / App_N, where u_M is the
@@ -232,35 +239,68 @@ def truncation_error(order, values, G, Omega, rows, roots, base, app) -> np.ndar
     """
     Omega_r, G_r = Omega[rows], np.full(rows.size, G)
     distance = _match_distance(rows, roots, values.c_per_s)
-    solved = {compile_series(order).b_orders: (roots, np.ones(roots.size, dtype=bool))}
+    solved = {compile_series(order, truncation).b_orders:
+              (roots, np.ones(roots.size, dtype=bool))}
     error = np.zeros(roots.size)
-    samples = base.shape[1]
     for k in (1, 2):
-        formulas = compile_series(order + k)
+        formulas = compile_series(order + k, truncation)
         if formulas.b_orders not in solved:
             solved[formulas.b_orders] = _nearby_root(
                 formulas, values, G_r, Omega_r, roots, distance
             )
         omega, matched = solved[formulas.b_orders]
-        a0 = G / np.hypot(omega**2 - Omega_r**2, 2 * values.c_per_s * Omega_r)
-        change = _waveform(formulas, values, a0, omega, Omega_r, samples) - base
-        with np.errstate(divide="ignore", invalid="ignore"):
-            step = (change.max(axis=1) - change.min(axis=1)) / app
+        step = _waveform_distance(formulas, values, G, Omega_r, omega, base, app)
         # np.maximum keeps a NaN: a lane unmatched at either order has no estimate.
         error = np.maximum(error, np.where(matched & np.isfinite(step), step, np.nan))
     return error
 
 
+def _waveform_distance(formulas, values, G, Omega_r, omega, base, app) -> np.ndarray:
+    """pp(u - base) / app, u the waveform of ``formulas`` at the roots ``omega``."""
+    a0 = G / np.hypot(omega**2 - Omega_r**2, 2 * values.c_per_s * Omega_r)
+    change = _waveform(formulas, values, a0, omega, Omega_r, base.shape[1]) - base
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return (change.max(axis=1) - change.min(axis=1)) / app
+
+
+def model_distance(order, values, G, Omega, rows, roots, base, app) -> np.ndarray:
+    """How far the order-N series of Eq. 2.6 is from the contact's own equation:
+    pp(u_C - u_N) / App_N, u_C the consistent series of order N+2 on its root nearest to
+    the order-N root (NaN where none lies within ``_match_distance``), ``base`` u_N
+    sampled over a period. Zero on the paper's own contact (m2 = 2, l = 1), whose flags
+    are the paper's, and where the consistent series is Eq. 2.6's (m2 = 2, l = 0).
+
+    Eq. 2.6 leaves out k_3 u^3 (m2 != 2) and d_1 u u' (l != 0): its own next orders do not
+    see what they change, which this does."""
+    truncation = truncation_for("consistent", values.parameters)
+    if (truncation.at_order(order + 2) == PAPER_TRUNCATION.at_order(order + 2)
+            or (values.parameters.m2, values.parameters.l) == (2.0, 1.0)):
+        return np.zeros(roots.size)
+    formulas = compile_series(order + 2, truncation)
+    Omega_r, G_r = Omega[rows], np.full(rows.size, G)
+    distance = _match_distance(rows, roots, values.c_per_s)
+    omega, matched = _nearby_root(formulas, values, G_r, Omega_r, roots, distance)
+    step = _waveform_distance(formulas, values, G, Omega_r, omega, base, app)
+    return np.where(matched & np.isfinite(step), step, np.nan)
+
+
 def solve_chunk(values, G, Omega, order, omega_range, grid_points, samples, tolerance,
-                offset: int) -> tuple[np.ndarray, ...]:
+                offset: int, truncation: Truncation = PAPER_TRUNCATION
+                ) -> tuple[np.ndarray, ...]:
     """Every root of the frequencies ``Omega``, with App, extrema, validity and error;
-    rows count from ``offset`` (as ``_response._solve_chunk``, in numpy)."""
-    formulas = compile_series(order)
+    rows count from ``offset`` (as ``_response._solve_chunk``, in numpy). The error of
+    the paper's truncation includes its distance to the contact's equation
+    (``model_distance``)."""
+    formulas = compile_series(order, truncation)
     rows, roots = _roots(formulas, values, G, Omega, order, omega_range, grid_points)
     a0 = G / np.hypot(roots**2 - Omega[rows] ** 2, 2 * values.c_per_s * Omega[rows])
     u = _waveform(formulas, values, a0, roots, Omega[rows], samples)  # order N, once
     u_max, u_min = _extrema(u)
-    error = truncation_error(order, values, G, Omega, rows, roots, u, u_max - u_min)
+    error = truncation_error(order, values, G, Omega, rows, roots, u, u_max - u_min,
+                             truncation)
+    if truncation.name == "paper":
+        distance = model_distance(order, values, G, Omega, rows, roots, u, u_max - u_min)
+        error = np.maximum(error, distance)
     valid = (values.y0_m + u_min > 0) & (error < tolerance)
     return rows + offset, roots, a0, u_min, u_max, valid, error
 

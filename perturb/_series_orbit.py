@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._compiled import compile_series
-from ._numbers import eq26_numbers
+from ._truncation import series_values
 from ._parameters import PAPER, ContactParameters
 from ._response import Branch
 from ._response_numpy import harmonics_in_drive_frame, refined_at, sample_waveform
@@ -44,8 +44,9 @@ class SeriesOrbits:
 
 
 def series_orbits(branch: Branch, order: int, parameters: ContactParameters = PAPER,
-                  samples: int = 256) -> SeriesOrbits:
-    """The orbits of ``branch``, a branch of ``frequency_response(..., order, parameters=...)``.
+                  samples: int = 256, truncation: str = "consistent") -> SeriesOrbits:
+    """The orbits of ``branch``, a branch of ``frequency_response(..., order,
+    parameters=..., truncation=...)``.
 
     Examples
     --------
@@ -56,12 +57,13 @@ def series_orbits(branch: Branch, order: int, parameters: ContactParameters = PA
     >>> round(float(orbit.y_start_m[0]) * 1e9, 2), round(float(orbit.v_start_m_s[0]) * 1e6, 3)
     (235.49, 2.925)
     """
-    values = eq26_numbers(parameters)
+    values = series_values(parameters)
+    formulas = compile_series(order, truncation, parameters)
     Omega = 2 * np.pi * np.asarray(branch.frequency_hz, dtype=float)
     at_rest = np.asarray(branch.a0_m) == 0  # P_a = 0: b_n divides by A0 (Eq. 2.10)
     harmonics = np.zeros((Omega.size, 1), dtype=complex)
     if not at_rest.all():
-        harmonics = harmonics_in_drive_frame(compile_series(order), values, branch.a0_m,
+        harmonics = harmonics_in_drive_frame(formulas, values, branch.a0_m,
                                              branch.omega_rad_s, Omega)
         harmonics[at_rest] = 0.0
     k = np.arange(harmonics.shape[-1])

@@ -32,13 +32,13 @@ Truncation(name='consistent', spring_degree=None, damping_degree=None)
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
+from ._numbers import Eq26Numbers, eq26_numbers
 from ._parameters import PAPER, ContactParameters
 
 __all__ = ["Truncation", "TRUNCATIONS", "truncation_for", "coefficient_values",
-           "binomial", "coefficient_closed_form"]
+           "binomial", "coefficient_closed_form", "SeriesValues", "series_values"]
 
 #: The truncations by name: "consistent" (every term up to the order) and "paper" (Eq. 2.6).
 TRUNCATIONS = ("consistent", "paper")
@@ -145,9 +145,21 @@ def coefficient_closed_form(kind: str, j: int):
     return sp.simplify(value)
 
 
-def check_finite_coefficients(values: list[float], names: list[str]) -> None:
-    """Raise a ValueError naming a coefficient that is not a finite number."""
-    for value, name in zip(values, names):
-        if not math.isfinite(value):
-            raise ValueError(f"the coefficient {name} of the equation in contact is {value!r} "
-                             "at these parameters: the series cannot be evaluated.")
+@dataclass(frozen=True)
+class SeriesValues(Eq26Numbers):
+    """The numbers of Eq. 2.6 at one contact, and the other k_j, d_j of its equation in
+    contact, which a series' formulas take after c (``coefficients``)."""
+
+    parameters: ContactParameters = PAPER
+
+    def coefficients(self, names: tuple[tuple[str, int], ...]) -> tuple[float, ...]:
+        """The values of ``names`` (("k", j) or ("d", j)), in order; h is Eq. 2.6's own."""
+        values = coefficient_values(tuple(kind for kind, _ in names),
+                                    tuple(j for _, j in names), self.parameters, self.y0_m)
+        return tuple(self.h_per_m_s2 if name == ("k", 2) else value
+                     for name, value in zip(names, values))
+
+
+def series_values(parameters: ContactParameters = PAPER) -> SeriesValues:
+    """``SeriesValues`` at ``parameters`` (Eq. 2.6's numbers from ``eq26_numbers``)."""
+    return SeriesValues(**eq26_numbers(parameters).as_dict(), parameters=parameters)

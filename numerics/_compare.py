@@ -197,7 +197,8 @@ def compare(
     curves = [by_model[model][i] for i in range(len(pa_frac)) for model in MODELS]
     # The series is of Eq. 2.6 whatever the model it is compared with: solved once per
     # amplitude and order, for the curves of both models.
-    series = {(frac, n): frequency_response(grid, frac, n, parameters=parameters)
+    series = {(frac, n): frequency_response(grid, frac, n, parameters=parameters,
+                                                truncation="paper")
               for frac in pa_frac for n in backbone.orders}
     responses = [compare_response(curve, n, grid, limits[n], parameters,
                                   response=series[curve.pa_frac, n])

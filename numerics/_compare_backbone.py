@@ -123,7 +123,7 @@ def validity_limit(amplitude: np.ndarray, error: np.ndarray, tolerance: float) -
 
 def compare_backbones(
     orders=(2, 4, 6), *, model: ContactModel | None = None, points: int = 400,
-    tolerance: float = 0.01,
+    tolerance: float = 0.01, truncation: str = "consistent",
 ) -> BackboneComparison:
     """Backbone series of each order against the exact backbone of ``model``.
 
@@ -137,6 +137,9 @@ def compare_backbones(
         Levels of the exact backbone, log-spaced in u_max from 1e-4 y0 to 3 y0 (>= 2).
     tolerance : float
         Relative frequency error that bounds each order's range (> 0).
+    truncation : {"consistent", "paper"}
+        The series of the model's own spring (every Taylor term, alpha = a / y0) or
+        Eq. 2.6's (h u^2 only, alpha = h a / omega0^2): ``perturb.backbone_series``.
 
     Returns
     -------
@@ -165,9 +168,9 @@ def compare_backbones(
     tolerance = check_positive("tolerance", tolerance)
     numbers = eq26_numbers(model.parameters)
     exact = exact_backbone(numbers.y0_m * np.geomspace(1e-4, 3.0, points), model=model)
-    # Eq. 2.7's parameter alpha = h a1 / omega0^2.
-    alpha = numbers.h_per_m_s2 / numbers.omega0_rad_s**2 * exact.a1_m
-    series = np.array([exact.f_n0_hz * backbone_series(n).frequency_ratio(alpha) for n in orders])
+    backbones = [backbone_series(n, truncation, model.parameters) for n in orders]
+    series = np.array([exact.f_n0_hz * b.frequency_ratio(b.alpha_per_m() * exact.a1_m)
+                       for b in backbones])
     error = np.abs(series / exact.frequency_hz - 1)
     crossing_a1 = np.array([validity_limit(exact.a1_m, e, tolerance) for e in error])
     crossing_app = np.interp(crossing_a1, exact.a1_m, exact.app_m)
@@ -179,5 +182,6 @@ def compare_backbones(
         limit_a1_m=np.minimum(crossing_a1, loss_a1), limit_app_m=np.minimum(crossing_app, loss_app),
         crossing_a1_m=crossing_a1, crossing_app_m=crossing_app,
         contact_loss_app_m=loss_app, tolerance=tolerance, model=model.as_dict(),
-        settings={"points": points}, elapsed_s=time.perf_counter() - start,
+        settings={"points": points, "truncation": backbones[0].settings.get(
+            "truncation", "paper")}, elapsed_s=time.perf_counter() - start,
     )

@@ -270,7 +270,8 @@ def compare_response(
     if already solved (one serves the curves of both models); solved here if None.
     """
     if response is None:
-        response = frequency_response(grid, curve.pa_frac, order, parameters=parameters)
+        response = frequency_response(grid, curve.pa_frac, order, parameters=parameters,
+                                      truncation="paper")
     elif differences := _differences(response, order, curve.pa_frac, grid):
         raise ValueError(f"`response` is not the series asked for: {'; '.join(differences)}.")
     app_table, valid_table = _responses(response, grid)

@@ -205,7 +205,7 @@ class _Roots:
 
     @classmethod
     def gather(cls, branches, order: int, model: ContactModel) -> _Roots:
-        starts = [series_orbits(b, order, model.parameters) for b in branches]
+        starts = [series_orbits(b, order, model.parameters, truncation="paper") for b in branches]
 
         def column(values):
             return np.concatenate([np.asarray(a, dtype=float) for a in values] or [[]])

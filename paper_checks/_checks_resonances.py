@@ -29,7 +29,8 @@ def linear_resonance(scene: PaperScene) -> Claim:
     """At a very small force the response is the linear transfer of Eq. 2.6."""
     found = scene.tiny_force
     # The linear response is the order-0 series of Eq. 2.6 (u0 = G H_1 cos, Eq. 2.8).
-    (branch,) = frequency_response(found.frequency_hz, TINY_FORCE_FRAC, order=0).branches
+    (branch,) = frequency_response(found.frequency_hz, TINY_FORCE_FRAC, order=0,
+                                     truncation="paper").branches
     linear = branch.app_m
     deviation = np.abs(found.app_m / linear - 1)
     peak = found.frequency_hz[np.argmax(found.app_m)]

@@ -46,7 +46,7 @@ def frequency_falls(scene: PaperScene) -> Claim:
     order = np.argsort(backbone.app_m)
     f = backbone.frequency_hz[order]
     falls = bool(np.all(np.diff(f) <= 1e-9 * f[0]))
-    coefficient = backbone_series(2).coefficients[2]
+    coefficient = backbone_series(2, "paper").coefficients[2]
     return Claim(
         "frequency_falls", "the natural frequency of the non-linear system becomes smaller with "
         "the increase of the vibration amplitude (Section 3.1, Eq. 2.10)",

@@ -159,7 +159,7 @@ def _derive_formulas() -> None:
     evaluate, derived once into the cache on disk (or found there). Not kept in this
     worker's memory: the study that may run here next times each order's first call."""
     for order in range(max(SERIES_ORDERS) + ERROR_ORDERS + 1):
-        compile_series.__wrapped__(order)
+        compile_series.__wrapped__(order, "paper")
 
 
 @contextmanager
@@ -383,7 +383,7 @@ class PaperScene:
     @cached_property
     def series(self):
         return self._timed("perturbation series, order 4", "symbolic derivation (sympy)",
-                           lambda: derive(4))
+                           lambda: derive(4, "paper"))
 
     def run_scenes(self) -> dict[str, SceneRun]:
         """Run every scene not run yet; {scene file: SceneRun}."""

@@ -1,12 +1,17 @@
 """Command line of the perturbation engine: ``python -m perturb {derive,backbone,response}``.
 
 - ``derive --order N [--latex FILE] [--json FILE] [--pretty | --steps]``: the series of
-  Eq. 2.6 printed order by order (text on stdout); with ``--steps`` the derivation study,
-  step by step in the paper's names (text, and LaTeX with ``--latex``).
-- ``backbone --order N [--json FILE]``: omega/omega0 of the free undamped
-  oscillator as exact coefficients of alpha = h a / omega0^2.
+  the equation in contact printed order by order (text on stdout); with ``--steps`` the
+  derivation study of Eq. 2.6, step by step in the paper's names (text, and LaTeX with
+  ``--latex``).
+- ``backbone --order N [--app-m A [A ...]] [--json FILE]``: omega/omega0 of the free
+  undamped oscillator as exact coefficients of alpha (a / y0; h a / omega0^2 for Eq. 2.6),
+  and with ``--app-m`` the backbone's frequency at those peak-to-peak amplitudes.
 - ``response --order N --pa-frac F --fmin HZ --fmax HZ --points M [--json FILE]``:
   the analytic frequency response, all branches, with the validity flag.
+
+Each takes ``--truncation consistent|paper`` (every term of the contact's equation up
+to the order, the default; or Eq. 2.6's) and ``--set NAME=VALUE`` (the contact).
 
 Every option is checked by its argparse type before any work: a bad number, or
 an output file that cannot be written (a folder, a missing folder, no
@@ -40,6 +45,7 @@ from common import (
 from ._model_option import add_model_option, model_parameters
 from ._parameters import PAPER_BAND_HZ
 from ._response import MAX_FREQUENCIES, frequency_response
+from ._truncation import TRUNCATIONS
 
 # derive and backbone import sympy in their commands: `response` with its order's
 # kernels built needs none of it.
@@ -67,7 +73,12 @@ def _derive(args: argparse.Namespace) -> None:
         note(f"order {args.order}: the closed forms take half a minute to minutes to simplify "
              f"and print (above order {SLOW_PRINT_ORDER}; {SLOW_PRINT_EXAMPLE})",
              quiet=args.quiet)
-    series = timed("derivation", lambda: derive(args.order))
+    parameters = model_parameters(args)
+    series = timed("derivation", lambda: derive(args.order, args.truncation, parameters))
+    if args.steps and not series.truncation.is_paper_equation():
+        args.parser.error("argument --steps: the derivation study writes Eq. 2.6's series in "
+                          "the paper's names; add --truncation paper (this contact's "
+                          f"consistent series keeps {[c for c in series.coefficients]})")
     bar = progress(args.order + 1, "closed forms and text, order by order", quiet=args.quiet)
     if args.steps:  # the derivation study, in the paper's names
         report, latex_of = partial(derivation_text, series), derivation_latex
@@ -87,19 +98,28 @@ def _derive(args: argparse.Namespace) -> None:
 def _backbone(args: argparse.Namespace) -> None:
     from ._backbone_series import backbone_series
 
-    series = backbone_series(args.order)
+    series = backbone_series(args.order, args.truncation, model_parameters(args))
     note(f"backbone series to order {args.order} in {series.elapsed_s:.3f} s", quiet=args.quiet)
+    data = series
+    if args.app_m:
+        frequency = series.frequency_at_app_hz(args.app_m)
+        data = {**series.as_dict(), "app_m": list(args.app_m),
+                "frequency_hz": [float(f) if np.isfinite(f) else None for f in frequency]}
     if args.json:
-        write_json(args.json, series)
+        write_json(args.json, data)
         note(f"wrote {args.json}", quiet=args.quiet)
     print(series)
+    if args.app_m:
+        for app, f in zip(args.app_m, frequency):
+            shown = f"{f:.6f} Hz" if np.isfinite(f) else "past the series' largest App"
+            print(f"  App {app:.6g} m: {shown}")
 
 
 def _response(args: argparse.Namespace) -> None:
     frequency_hz = np.linspace(args.fmin, args.fmax, args.points)
     note(f"response of order {args.order} at {args.points} frequencies ...", quiet=args.quiet)
     response = frequency_response(frequency_hz, args.pa_frac, args.order,
-                                  parameters=model_parameters(args))
+                                  parameters=model_parameters(args), truncation=args.truncation)
     note(f"done in {response.elapsed_s:.2f} s", quiet=args.quiet)
     if args.json:
         write_json(args.json, response)
@@ -113,7 +133,7 @@ def _parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True)
     order = int_at_least(0)
 
-    derive_cmd = commands.add_parser("derive", help="derive and print the series of Eq. 2.6")
+    derive_cmd = commands.add_parser("derive", help="derive and print the perturbation series")
     derive_cmd.add_argument("--order", type=order, required=True)
     derive_cmd.add_argument("--latex", metavar="FILE", type=output_file)
     derive_cmd.add_argument("--json", metavar="FILE", type=output_file)
@@ -125,6 +145,9 @@ def _parser() -> argparse.ArgumentParser:
 
     backbone_cmd = commands.add_parser("backbone", help="backbone series omega/omega0(alpha)")
     backbone_cmd.add_argument("--order", type=order, required=True)
+    backbone_cmd.add_argument("--app-m", type=positive_float, nargs="+", metavar="A",
+                              help="peak-to-peak amplitudes [m] at which to give the "
+                              "backbone's frequency (App of the series orbit)")
     backbone_cmd.add_argument("--json", metavar="FILE", type=output_file)
     backbone_cmd.set_defaults(run=_backbone)
 
@@ -141,7 +164,12 @@ def _parser() -> argparse.ArgumentParser:
     response_cmd.add_argument("--json", metavar="FILE", type=output_file)
     add_model_option(response_cmd)
     response_cmd.set_defaults(run=_response)
+    for sub in (derive_cmd, backbone_cmd):
+        add_model_option(sub)
     for sub in (derive_cmd, backbone_cmd, response_cmd):
+        sub.add_argument("--truncation", choices=TRUNCATIONS, default="consistent",
+                         help="consistent: every term k_j u^j, d_j u^j u' of the contact's "
+                         "equation up to the order (default); paper: Eq. 2.6")
         # SUPPRESS: a --quiet given before the command is not reset here.
         sub.add_argument(
             "--quiet", action="store_true", default=argparse.SUPPRESS, help="no progress on stderr"

@@ -18,7 +18,7 @@ faster than general symbolic simplification. Finally
 
 Examples
 --------
->>> series = backbone_series(4)
+>>> series = backbone_series(4, "paper")
 >>> series.as_strings()
 ['1', '0', '-5/12', '0', '-485/1728']
 >>> round(series.frequency_ratio(0.1), 6)
@@ -37,9 +37,11 @@ from common import Result, result
 
 from ._effects import EQ_2_6
 from ._model import ContactModel
+from ._parameters import PAPER, ContactParameters
 from ._series_symbols import check_order
+from ._truncation import truncation_for
 
-__all__ = ["BackboneSeries", "backbone_series"]
+__all__ = ["BackboneSeries", "backbone_series", "power_law_backbone_coefficients"]
 
 Cosines = list[Fraction]  # index j: coefficient of cos(j tau)
 
@@ -73,23 +75,57 @@ def _series_sqrt(w: list[Fraction], order: int) -> list[Fraction]:
     return root
 
 
-def _lindstedt_poincare(order: int) -> tuple[list[Fraction], list[Cosines]]:
-    """w_1..w_order of W, and the cosine arrays of x_1..x_{order+1}."""
-    w = [Fraction(0)] * (order + 1)
+def _lindstedt_poincare(order: int, kappa=None, normal=lambda q: q):
+    """w_1..w_order of W, and the cosine arrays of x_1..x_{order+1}, for
+    ``W x'' + x + sum_{j>=2} kappa[j] x^j = 0`` (``kappa`` None: kappa_2 = 1, no more).
+
+    ``kappa`` and the results are exact numbers (Fraction) or sympy expressions, which
+    ``normal`` (sympy.expand) keeps in normal form.
+    """
+    kappa = kappa if kappa is not None else [Fraction(0), Fraction(0), Fraction(1)]
+    zero = Fraction(0)
+    w = [zero] * (order + 1)
     x: list[Cosines] = [[], [Fraction(0), Fraction(1)]]  # x_0 unused, x_1 = cos(tau)
+    powers: dict[tuple[int, int], Cosines] = {}
+
+    def power(j: int, n: int) -> Cosines:
+        """The coefficient of alpha^n in x^j, each x_i (i >= 1) known for i <= n - j + 1."""
+        if j == 1:
+            return x[n]
+        if (j, n) not in powers:
+            total: Cosines = []
+            for i in range(1, n - j + 2):
+                _add_into(total, _product(power(j - 1, n - i), x[i]), Fraction(1))
+            powers[(j, n)] = [normal(q) for q in total]
+        return powers[(j, n)]
+
     for n in range(2, order + 2):
         rhs: Cosines = []
-        for i in range(1, n):
-            _add_into(rhs, _product(x[i], x[n - i]), Fraction(-1))
+        for j in range(2, min(n, len(kappa) - 1) + 1):
+            if kappa[j] != 0:
+                _add_into(rhs, power(j, n), -kappa[j])
         for k in range(1, n - 1):
             # -w_k x_{n-k}'' = +w_k j^2 a_j cos(j tau)
             _add_into(rhs, [j * j * a for j, a in enumerate(x[n - k])], w[k])
+        rhs = [normal(q) for q in rhs]
         rhs.extend([Fraction(0)] * (2 - len(rhs)))
         # The secular cos(tau): the term w_{n-1} x_1'' = -w_{n-1} cos(tau) cancels it.
         w[n - 1] = -rhs[1]
         rhs[1] = Fraction(0)
         x.append([value / (1 - j * j) if j != 1 else Fraction(0) for j, value in enumerate(rhs)])
     return w, x[1:]
+
+
+def power_law_kappa(m2, order: int) -> list:
+    """kappa_j = binom(m2, j) / m2, j = 0..order+1: the power-law spring with its weight,
+    ``(F_s + Q) / (M omega0^2 y0) = -((1 + x)^m2 - 1) / m2`` in x = u / y0 (Eq. 2.1-2.3).
+    ``m2`` a Fraction (exact numbers) or a sympy expression."""
+    kappa = [Fraction(0), Fraction(1)]
+    term = Fraction(1)
+    for j in range(2, order + 2):
+        term = term * (m2 - (j - 1)) / j  # binom(m2, j) / m2 from binom(m2, j - 1) / m2
+        kappa.append(term)
+    return kappa
 
 
 def _fractions(name: str, value) -> tuple[Fraction, ...]:
@@ -102,10 +138,12 @@ def _fractions(name: str, value) -> tuple[Fraction, ...]:
 
 @result
 class BackboneSeries(Result):
-    """omega / omega0 = sum_k coefficients[k] alpha^k, alpha = h a / omega0^2.
+    """omega / omega0 = sum_k coefficients[k] alpha^k.
 
-    The series is dimensionless: it holds for every parameter set, through
-    omega0 and h. ``model`` records the paper's Eq. 2.6 model, whose omega0 and
+    Eq. 2.6's series (``truncation="paper"``) has alpha = h a / omega0^2 and is the
+    same for every parameter set, through omega0 and h; the consistent series of a
+    power-law contact has alpha = a / y0 (``settings["alpha"]``) and coefficients
+    that are exact rationals of m2. ``model`` records the model whose omega0, y0 and
     h turn alpha into an amplitude and omega / omega0 into a frequency.
 
     Attributes
@@ -117,12 +155,14 @@ class BackboneSeries(Result):
     coefficients : tuple of Fraction
         Exact coefficients of alpha^0 .. alpha^order (JSON: strings, ``"-5/12"``).
     waveform : tuple of tuple of Fraction
-        Cosine coefficients of x_1 .. x_(order+1), ``x = h u / omega0^2``
+        Cosine coefficients of x_1 .. x_(order+1), ``x = alpha u / a``
         (JSON: strings).
     model : dict
-        ``ContactModel(PAPER, EQ_2_6).as_dict()``.
+        ``ContactModel(parameters, EQ_2_6).as_dict()`` (Eq. 2.6's series) or
+        ``ContactModel(parameters).as_dict()``.
     settings : dict
-        Empty: the order is the one setting.
+        Empty for Eq. 2.6's series; ``{"truncation": "consistent", "alpha": "a / y0"}``
+        for the power law's.
     elapsed_s : float
         Wall time of this call [s] (a repeated order is served from a cache).
     """
@@ -143,6 +183,41 @@ class BackboneSeries(Result):
             total = total * alpha + float(q)
         return float(total) if total.ndim == 0 else total
 
+    def alpha_per_m(self) -> float:
+        """alpha per metre of amplitude: h / omega0^2 (Eq. 2.6's series) or 1 / y0."""
+        if self.settings.get("alpha") == "a / y0":
+            return 1.0 / self.model["y0_m"]
+        return self.model["h_per_m_s2"] / self.model["omega0_rad_s"] ** 2
+
+    def peak_to_peak_m(self, alpha: float) -> float:
+        """App = max u - min u of the series orbit x = sum_n alpha^n x_n at ``alpha`` [m]."""
+        tau = np.linspace(0.0, np.pi, 2049)  # x is even in tau: half a period holds both
+        top = max(len(x) for x in self.waveform)
+        table = np.cos(np.outer(np.arange(top), tau))
+        x = sum(alpha ** (n + 1) * (np.array([float(q) for q in xn]) @ table[:len(xn)])
+                for n, xn in enumerate(self.waveform) if xn)
+        return float(x.max() - x.min()) / self.alpha_per_m()
+
+    def frequency_at_app_hz(self, app_m) -> np.ndarray:
+        """The series backbone's frequency [Hz] at peak-to-peak amplitudes ``app_m`` [m]
+        (App of the series orbit; NaN past the amplitude where App stops growing)."""
+        from scipy.optimize import brentq
+
+        app_m = np.atleast_1d(np.asarray(app_m, dtype=float))
+        alphas = np.linspace(0.0, 2.0, 401)[1:]
+        apps = np.array([self.peak_to_peak_m(a) for a in alphas])
+        rising = np.flatnonzero(np.diff(apps) <= 0)
+        top = rising[0] + 1 if rising.size else alphas.size  # where App stops growing
+        out = np.full(app_m.shape, np.nan)
+        for i, target in enumerate(app_m):
+            if 0 < target <= apps[top - 1]:
+                alpha = brentq(lambda a: self.peak_to_peak_m(a) - target, 0.0,
+                               alphas[top - 1], xtol=1e-15, rtol=1e-13)
+                out[i] = self.model["f_n0_hz"] * self.frequency_ratio(alpha)
+            elif target == 0:
+                out[i] = self.model["f_n0_hz"]
+        return out
+
     def as_strings(self) -> list[str]:
         """The coefficients as strings, ``["1", "0", "-5/12", ...]``."""
         return [str(q) for q in self.coefficients]
@@ -151,7 +226,8 @@ class BackboneSeries(Result):
         shown = ", ".join(self.as_strings()[:5])
         more = ", ..." if len(self.coefficients) > 5 else ""
         return (f"BackboneSeries: omega/omega0 = sum_k c_k alpha^k to order {self.order}, "
-                f"alpha = h a / omega0^2 (a: {self.amplitude} amplitude): {shown}{more}; "
+                f"alpha = {self.settings.get('alpha', 'h a / omega0^2')} "
+                f"(a: {self.amplitude} amplitude): {shown}{more}; "
                 f"{self.elapsed_s:.3f} s")
 
     def table(self) -> str:
@@ -176,19 +252,54 @@ class BackboneSeries(Result):
 
 
 @lru_cache(maxsize=None)
-def _exact_series(order: int) -> tuple[tuple[Fraction, ...], tuple[tuple[Fraction, ...], ...]]:
-    """(coefficients, waveform) of the backbone to alpha^order, computed once per order."""
-    w, x = _lindstedt_poincare(order)
+def _exact_series(order: int, m2: Fraction | None = None
+                  ) -> tuple[tuple[Fraction, ...], tuple[tuple[Fraction, ...], ...]]:
+    """(coefficients, waveform) of the backbone to alpha^order, computed once per order:
+    Eq. 2.6's (``m2`` None) or the power law's of exponent ``m2``."""
+    kappa = None if m2 is None else power_law_kappa(m2, order)
+    w, x = _lindstedt_poincare(order, kappa)
     return tuple(_series_sqrt(w, order)), tuple(tuple(xi) for xi in x)
 
 
-def backbone_series(order: int) -> BackboneSeries:
-    """The free undamped backbone of Eq. 2.6 to alpha^order, exactly.
+def power_law_backbone_coefficients(order: int):
+    """omega / omega0 of the power-law contact as a series in alpha = a / y0, with
+    coefficients that are polynomials in the symbol m2 (sympy).
+
+    Examples
+    --------
+    >>> power_law_backbone_coefficients(2)[2].factor()
+    -(m2 - 1)*(2*m2 + 1)/48
+    """
+    import sympy as sp
+
+    from ._symbols import m2
+
+    order = check_order(order)
+    w, _ = _lindstedt_poincare(order, power_law_kappa(m2, order), sp.expand)
+    return [sp.expand(q) for q in _series_sqrt(w, order)]
+
+
+def _exact_m2(m2: float) -> Fraction:
+    """m2 as an exact rational (1.5 -> 3/2; a float's shortest decimal otherwise)."""
+    return Fraction(repr(float(m2)))
+
+
+def backbone_series(order: int, truncation: str = "consistent",
+                    parameters: ContactParameters = PAPER) -> BackboneSeries:
+    """The free undamped backbone of the contact to alpha^order, exactly.
 
     Parameters
     ----------
     order : int
-        Highest power of alpha = h a / omega0^2 kept, >= 0.
+        Highest power of alpha kept, >= 0.
+    truncation : {"consistent", "paper"}
+        "consistent": the power-law spring of ``parameters`` with every term of its
+        Taylor series, in alpha = a / y0, the coefficients exact rationals of m2
+        (at m2 = 2 those of "paper" over 2^k); "paper": Eq. 2.6's spring (h u^2), in
+        alpha = h a / omega0^2, the same for every contact.
+    parameters : ContactParameters
+        The contact (its m2 shapes the consistent series; y0, omega0 and h turn alpha
+        into an amplitude).
 
     Returns
     -------
@@ -197,8 +308,10 @@ def backbone_series(order: int) -> BackboneSeries:
 
     Examples
     --------
-    >>> backbone_series(2).coefficients[2]
+    >>> backbone_series(2, "paper").coefficients[2]
     Fraction(-5, 12)
+    >>> backbone_series(2).coefficients[2]  # the paper's contact: alpha = a / y0
+    Fraction(-5, 48)
     >>> backbone_series(-2)
     Traceback (most recent call last):
     ...
@@ -206,13 +319,20 @@ def backbone_series(order: int) -> BackboneSeries:
     """
     start = time.perf_counter()
     order = check_order(order)
-    coefficients, waveform = _exact_series(order)
+    resolved = truncation_for(truncation, parameters)
+    if resolved.name == "paper":
+        coefficients, waveform = _exact_series(order)
+        model, settings = ContactModel(parameters, EQ_2_6).as_dict(), {}
+    else:
+        coefficients, waveform = _exact_series(order, _exact_m2(parameters.m2))
+        model = ContactModel(parameters).as_dict()
+        settings = {"truncation": "consistent", "alpha": "a / y0"}
     return BackboneSeries(
         order=order,
         amplitude="first-harmonic",
         coefficients=coefficients,
         waveform=waveform,
-        model=ContactModel(effects=EQ_2_6).as_dict(),
-        settings={},
+        model=model,
+        settings=settings,
         elapsed_s=time.perf_counter() - start,
     )

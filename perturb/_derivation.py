@@ -114,6 +114,16 @@ TITLES = {
 }
 
 
+def _check_study(series) -> Series:
+    """The series, if it is Eq. 2.6's: the study writes the paper's terms, names and steps."""
+    series = _check_series(series)
+    if not series.truncation.is_paper_equation():
+        raise ValueError("`series` must be Eq. 2.6's (derive(order, 'paper')): the derivation "
+                         "study writes the paper's terms in the paper's names; got a series "
+                         f"that keeps {list(series.coefficients)}.")
+    return series
+
+
 class _Derivation:
     """Builds the steps of each order, the lower orders' solutions in their display names."""
 
@@ -321,7 +331,7 @@ def derivation_text(series: Series, *, each_order: Callable[[], object] | None =
     Examples
     --------
     >>> from perturb import derive
-    >>> text = derivation_text(derive(2))
+    >>> text = derivation_text(derive(2, "paper"))
     >>> print("\n".join(line for line in text.splitlines() if line.startswith(("Order", "    b"))))
     Order eps^0 (Eq. 2.8)
     Order eps^1 (Eq. 2.9)
@@ -329,7 +339,7 @@ def derivation_text(series: Series, *, each_order: Callable[[], object] | None =
     Order eps^2 (Eq. 2.10)
         b2 = A1*h*cos(phi1) + 2*A2*h
     """
-    lines = _preamble(_check_series(series))
+    lines = _preamble(_check_study(series))
     for n, steps in enumerate(_orders(series, each_order)):
         lines.append(_heading(n)[0])
         for step in steps:
@@ -356,11 +366,11 @@ def derivation_latex(series: Series, *, each_order: Callable[[], object] | None 
     Examples
     --------
     >>> from perturb import derive
-    >>> tex = derivation_latex(derive(1))
+    >>> tex = derivation_latex(derive(1, "paper"))
     >>> print(tex[tex.index(r"\ddot u_{1}"):].splitlines()[0])
     \ddot u_{1} + 2c\,\dot u_{1} + \omega^2 u_{1} &= b_{1} u_{0} - h u_{0}^{2} \tag{2.9}\\
     """
-    out = [rf"% {line}" for line in _preamble(_check_series(series))]
+    out = [rf"% {line}" for line in _preamble(_check_study(series))]
     for n, steps in enumerate(_orders(series, each_order)):
         out.append(rf"\paragraph{{{_heading(n)[1]}}}")
         out.append(steps[0].title[1])

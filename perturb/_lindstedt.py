@@ -14,7 +14,7 @@ then solved in closed form by the linear transfer
 
 Examples
 --------
->>> series = derive(4)
+>>> series = derive(4, "paper")
 >>> series
 Series(order=4, b=[0, b_2, 0, b_4], harmonics=[(1,), (0, 2), (1, 3), (0, 2, 4), (1, 3, 5)])
 >>> series.b_closed_form(2)

@@ -8,7 +8,7 @@ the series of omega^2 (Eq. 2.7).
 Examples
 --------
 >>> from perturb._lindstedt import derive
->>> print(text_report(derive(1)).splitlines()[11])
+>>> print(text_report(derive(1, "paper")).splitlines()[11])
   u_1'' + 2*c*u_1' + omega**2*u_1 = b_1*u_0 - h*u_0**2
 """
 
@@ -40,19 +40,36 @@ def _u(n: int) -> sp.Symbol:
     return sp.Symbol(f"u_{n}")
 
 
-def generic_right_side(n: int) -> sp.Expr:
-    """sum_{k=1..n} b_k u_{n-k} - h sum_{i+j=n-1} u_i u_j (Eq. 2.9, 2.10, A.1, A.2).
+def generic_right_side(n: int, series: Series | None = None) -> sp.Expr:
+    """sum_{k=1..n} b_k u_{n-k} - h sum_{i+j=n-1} u_i u_j (Eq. 2.9, 2.10, A.1, A.2), and
+    the terms of the equation in contact that ``series``' truncation keeps beyond Eq. 2.6:
+    - k_j (u^j)_(n-j+1) and - d_j (u^j u')_(n-j), u_i' written du_i.
 
     Examples
     --------
     >>> generic_right_side(3)
     b_1*u_2 + b_2*u_1 + b_3*u_0 - h*(2*u_0*u_2 + u_1**2)
+    >>> from perturb._lindstedt import derive
+    >>> generic_right_side(2, derive(2))  # the paper's contact: d_1 u u' too
+    b_1*u_1 + b_2*u_0 - d_1*(du_0*u_1 + du_1*u_0) - 2*h*u_0*u_1
     """
     if n == 0:
         return sym.G * sp.cos(sym.Omega * sym.t)
     bs = sp.Add(*(sym.b(k) * _u(n - k) for k in range(1, n + 1)))
     products = sp.Add(*(_u(i) * _u(n - 1 - i) for i in range(n)))
-    return bs - sym.h * products
+    if series is None or series.truncation.is_paper_equation():
+        return bs - sym.h * products
+    eps = sym.eps
+    u = sp.Add(*(eps**i * _u(i) for i in range(n)))
+    du = sp.Add(*(eps**i * sp.Symbol(f"du_{i}") for i in range(n)))
+    total = bs
+    for kind, j in series.coefficients:
+        order = n - j + 1 if kind == "k" else n - j
+        if order < 0:
+            continue
+        power = sp.expand(u**j * (du if kind == "d" else 1)).coeff(eps, order)
+        total -= sym.coefficient(kind, j) * sp.factor_terms(power)
+    return total
 
 
 def latex_names(expr: sp.Expr) -> dict[sp.Symbol, str]:
@@ -141,15 +158,14 @@ def text_report(series: Series, *, pretty: bool = False, each_order=None) -> str
         return [indent + row for row in _line(left, right, pretty).splitlines()]
 
     lines = [
-        f"Perturbation series of Eq. 2.6 to order {series.order}",
-        "Eq. 2.6: u'' + 2*c*u' + omega0**2*u + eps*h*u**2 = G*cos(Omega*t)",
+        *_heading(series),
         "Eq. 2.7:",
         *block(sym.omega**2, series.omega_squared(), "  "),
         "Transfer of harmonic k: H_k*exp(I*theta_k) = 1/(omega**2 - k**2*Omega**2 + 2*I*k*c*Omega)",
     ]
     for n in range(series.order + 1):
         lines.append(f"-- eps^{n}")
-        lines.append(f"  {_left_side_text(n)} = {sp.sstr(generic_right_side(n))}")
+        lines.append(f"  {_left_side_text(n)} = {sp.sstr(generic_right_side(n, series))}")
         for label, left, right in _order_items(series, n):
             lines += block(left, right, "    " if label == "closed form" else "  ")
         if each_order is not None:
@@ -158,6 +174,32 @@ def text_report(series: Series, *, pretty: bool = False, each_order=None) -> str
     for left, right in _transfer_lines(series):
         lines += block(left, right, "  ")
     return "\n".join(lines) + "\n"
+
+
+def _heading(series: Series) -> list[str]:
+    """The report's first lines: Eq. 2.6, or the equation in contact with the closed form
+    of each coefficient the truncation keeps beyond it."""
+    if series.truncation.is_paper_equation():
+        return [f"Perturbation series of Eq. 2.6 to order {series.order}",
+                "Eq. 2.6: u'' + 2*c*u' + omega0**2*u + eps*h*u**2 = G*cos(Omega*t)"]
+    lines = [f"Perturbation series of the equation in contact to order {series.order} "
+             f"({series.truncation.name} truncation: k_j u^j at eps^(j-1), d_j u^j u' at eps^j)",
+             f"Equation: {sp.sstr(_equation_text(series))} = G*cos(Omega*t)",
+             "Coefficients (Taylor's of the contact laws at y0; u = y - y0, h = k_2, 2*c = d_0):"]
+    from ._truncation import coefficient_closed_form
+
+    for kind, j in (("k", 1), ("d", 0), *series.coefficients):
+        name = {("k", 1): "omega0**2", ("d", 0): "2*c"}.get((kind, j), str(sym.coefficient(kind, j)))
+        lines.append(f"  {name} = {sp.sstr(coefficient_closed_form(kind, j))}")
+    return lines
+
+
+def _equation_text(series: Series) -> sp.Expr:
+    u, du, ddu = sp.symbols("u u' u''")
+    terms = [ddu, 2 * sym.c * du, sym.omega0**2 * u]
+    terms += [sym.coefficient(kind, j) * u**j * (du if kind == "d" else 1)
+              for kind, j in series.coefficients]
+    return sp.Add(*terms, evaluate=False)
 
 
 def _latex(expr: sp.Expr) -> str:
@@ -194,7 +236,7 @@ def latex_report(series: Series) -> str:
     for n in range(series.order + 1):
         out.append(rf"\paragraph{{$\varepsilon^{{{n}}}$}}")
         out.append(r"\begin{align*}")
-        rows = [rf"{_left_side_latex(n)} &= {_latex(generic_right_side(n))}"]
+        rows = [rf"{_left_side_latex(n)} &= {_latex(generic_right_side(n, series))}"]
         split = 0
         for label, left, right in _order_items(series, n):
             if label == "right side":
@@ -224,7 +266,7 @@ def series_json(series: Series) -> dict:
     Examples
     --------
     >>> from perturb._lindstedt import derive
-    >>> data = series_json(derive(1))
+    >>> data = series_json(derive(1, "paper"))
     >>> data["b"], data["terms"][2]["amplitude"]
     ({'1': '0'}, 'A_0_1**2*h/(2*sqrt(16*Omega**2*c**2 + (-4*Omega**2 + omega**2)**2))')
     """

@@ -32,7 +32,8 @@ middle root of a bent peak can be valid and is an unstable orbit.
 Examples
 --------
 >>> import numpy as np
->>> res = frequency_response(np.array([800.0, 1420.0]), pa_frac=0.05, order=6)
+>>> res = frequency_response(np.array([800.0, 1420.0]), pa_frac=0.05, order=6,
+...                          truncation="paper")
 >>> res.roots_per_frequency().tolist()  # 1420 Hz is on the bent primary peak
 [1, 3]
 >>> [round(float(b.app_m[-1]) * 1e9, 1) for b in res.branches]  # App [nm], 1420 Hz

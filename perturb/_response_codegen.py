@@ -229,7 +229,7 @@ def _chain_program(order: int):
     from ._compiled import ARGUMENTS, complex_chain
     from ._lindstedt import derive
 
-    series = derive(order)
+    series = derive(order, "paper")
     program = _Program(ARGUMENTS)
     for symbol, expr in complex_chain(series):
         value = program.expression(expr)
@@ -274,7 +274,7 @@ def series_source(order: int) -> str:
 
     orders = (order, *(order + m for m in NEXT_ORDERS))
     program, series = _chain_program(orders[-1])
-    b_orders = tuple(series_b_orders(derive(n)) for n in orders)
+    b_orders = tuple(series_b_orders(derive(n, "paper")) for n in orders)
     if b_orders[1] not in (b_orders[0], b_orders[2]):  # b_n = 0 at odd n: cannot happen
         raise RuntimeError(f"orders {orders} have three frequency equations: {b_orders}")
     keys = series_keys(series)

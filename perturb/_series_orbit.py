@@ -52,8 +52,8 @@ def series_orbits(branch: Branch, order: int, parameters: ContactParameters = PA
     --------
     >>> import numpy as np
     >>> from perturb import frequency_response
-    >>> branch = frequency_response(np.array([1000.0]), 0.05, 6).branches[0]
-    >>> orbit = series_orbits(branch, 6)
+    >>> branch = frequency_response(np.array([1000.0]), 0.05, 6, truncation="paper").branches[0]
+    >>> orbit = series_orbits(branch, 6, truncation="paper")
     >>> round(float(orbit.y_start_m[0]) * 1e9, 2), round(float(orbit.v_start_m_s[0]) * 1e6, 3)
     (235.49, 2.925)
     """

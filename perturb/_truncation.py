@@ -26,7 +26,7 @@ Truncation(name='paper', spring_degree=2, damping_degree=0)
 >>> from perturb._parameters import ContactParameters
 >>> truncation_for("consistent", ContactParameters(m2=1.5, l=0.5))
 Truncation(name='consistent', spring_degree=None, damping_degree=None)
->>> [round(x, 6) for x in coefficient_values(("k", "d"), (3, 1), ContactParameters(m2=3.0))]
+>>> [round(x, 6) for x in coefficient_values(("k", "d"), (4, 2), ContactParameters(m2=3.0))]
 [0.0, 0.0]
 """
 

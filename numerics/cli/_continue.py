@@ -157,5 +157,6 @@ def _series(args: argparse.Namespace, parameters):
     from .._series_stability import series_stability
 
     response = frequency_response(np.linspace(args.fmin, args.fmax, SERIES_POINTS),
-                                  args.pa_frac, args.series, parameters=parameters)
+                                  args.pa_frac, args.series, parameters=parameters,
+                                  truncation="paper")
     return series_stability(response)

@@ -55,7 +55,7 @@ def series_study(scene: Scene, grid: np.ndarray, tolerance: float
     series_kernels(SERIES_ORDER)  # built once per order and cache, before the clock starts
     start = time.perf_counter()
     responses = [frequency_response(grid, frac, SERIES_ORDER, parameters=scene.parameters,
-                                    tolerance=tolerance, engine="compiled")
+                                    tolerance=tolerance, engine="compiled", truncation="paper")
                  for frac in scene.pa_frac]
     for frac, response in zip(scene.pa_frac, responses):
         several = int(np.sum(response.roots_per_frequency() != 1))
@@ -95,7 +95,7 @@ def _points(scene: Scene, branch, pa_frac: float) -> Orbits:
     from perturb import series_orbits  # its harmonics are sympy's lambdified formulas
 
     n = branch.frequency_hz.size
-    orbit = series_orbits(branch, SERIES_ORDER, scene.parameters)
+    orbit = series_orbits(branch, SERIES_ORDER, scene.parameters, truncation="paper")
     y0 = eq26_numbers(scene.parameters).y0_m
     return Orbits(
         frequency_hz=branch.frequency_hz, p_a_n=np.full(n, pa_frac * scene.parameters.Q_n),

@@ -103,7 +103,8 @@ def _analytic(scene, model, grid, quiet) -> StudyRun:
     from perturb import frequency_response
 
     responses = [frequency_response(grid, frac, scene.options["order"],
-                                    parameters=model.parameters, tolerance=scene.tolerance)
+                                    parameters=model.parameters, tolerance=scene.tolerance,
+                                    truncation="paper")
                  for frac in scene.pa_frac]
     return StudyRun(responses, f"the compiled series of order {scene.options['order']} "
                                "(every root, its extrema and its error estimate)")
@@ -115,14 +116,14 @@ def _backbone(scene, model, grid, quiet) -> StudyRun:
     from .._backbone import exact_backbone
 
     exact = exact_backbone(model=model, points=scene.options["points"])
-    return StudyRun([exact, backbone_series(scene.options["order"])],
+    return StudyRun([exact, backbone_series(scene.options["order"], "paper")],
                     "the period quadrature of the free oscillation, and the series")
 
 
 def _derivation(scene, model, grid, quiet) -> StudyRun:
     from perturb import derivation_text, derive
 
-    series = derive(scene.options["order"])
+    series = derive(scene.options["order"], "paper")
     return StudyRun([], "the symbolic derivation (sympy)", text=derivation_text(series))
 
 

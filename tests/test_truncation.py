@@ -1,0 +1,250 @@
+"""The series of any contact: the equation in contact to consistent order.
+
+Three routes to each number: the closed forms (``derive``, lambdified), the same scheme
+carried out on samples (``NumericSeries``), and the full model (the quadrature backbone,
+RK4 steady states of ``numerics``). Contacts off the paper's keep y0 (c_n rescaled) and
+c (h_n rescaled), so that only the shape of the laws changes.
+"""
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from numerics import exact_backbone, steady_states
+from perturb import (
+    PAPER,
+    ContactModel,
+    ContactParameters,
+    backbone_series,
+    derive,
+    eq26_numbers,
+    frequency_response,
+    series_orbits,
+)
+from perturb._backbone_series import power_law_backbone_coefficients
+from perturb._compiled import compile_series, lambdify_chain
+from perturb._series_numeric import NumericSeries
+from perturb._symbols import m2 as m2_symbol
+from perturb._truncation import (
+    coefficient_closed_form,
+    series_values,
+    truncation_for,
+)
+
+Y0 = eq26_numbers(PAPER).y0_m
+
+
+def contact(m2: float, l: float = 1.0) -> ContactParameters:
+    """A power-law contact with the paper's y0 (c_n rescaled) and c (h_n rescaled)."""
+    return ContactParameters(m2=m2, l=l, c_n=PAPER.M * PAPER.g / (PAPER.S * Y0**m2),
+                             h_n=PAPER.h_n * Y0 ** (1 - l))
+
+
+# -- the equation and its coefficients ------------------------------------------------
+
+@pytest.mark.parametrize("kind, j", [("k", 2), ("k", 3), ("k", 4), ("d", 1), ("d", 2)])
+@pytest.mark.parametrize("parameters", [PAPER, contact(1.5, 0.5), contact(2.5, 1.5)])
+def test_coefficient_values_are_the_models_taylor_coefficients(kind, j, parameters):
+    """The closed form without sympy against sympy's derivative of the model's own law."""
+    model = ContactModel(parameters)
+    exact = coefficient_closed_form(kind, j).subs(sp.Symbol("y0", positive=True),
+                                                 model.static_deflection)
+    value = series_values(parameters).coefficients(((kind, j),))[0]
+    expected = model.evaluate(exact)
+    assert value == pytest.approx(expected, rel=1e-12, abs=1e-300)
+
+
+def test_polynomial_laws_end_their_sums():
+    assert derive(4).coefficients == (("k", 2), ("d", 1))  # the paper's contact
+    assert derive(4, "paper").coefficients == (("k", 2),)
+    assert derive(4, parameters=contact(3.0, 0.0)).coefficients == (("k", 2), ("k", 3))
+    generic = derive(3, parameters=contact(1.5, 0.5)).coefficients
+    assert generic == (("k", 2), ("k", 3), ("k", 4), ("d", 1), ("d", 2), ("d", 3))
+
+
+def _residual_in_contact(order: int, scale: float) -> float:
+    """max |residual| over a period of the consistent order-N series of contact(1.5, 0.5)
+    in its own equation, every k_j scaled by scale^(j-1) and d_j by scale^j (eps = scale)."""
+    parameters = contact(1.5, 0.5)
+    formulas = compile_series(order, "consistent", parameters)
+    values = series_values(parameters)
+    names = formulas.coefficients
+    coefficients = [x * scale ** (j - 1 if kind == "k" else j)
+                    for (kind, j), x in zip(names, values.coefficients(names))]
+    a0, omega, Omega, c = 2e-7, 9000.0, 8000.0, values.c_per_s
+    amplitudes = formulas.amplitudes(a0, omega, Omega, c, *coefficients)
+    shift = float(formulas.frequency_shift(a0, omega, Omega, c, *coefficients))
+    theta = np.linspace(0, 2 * np.pi, 512, endpoint=False)
+    u, du, ddu = (np.zeros_like(theta) for _ in range(3))
+    for (_, k), z in zip(formulas.keys, amplitudes):
+        wave = complex(z) * np.exp(1j * k * theta)
+        u, du, ddu = u + wave.real, du + (1j * k * Omega * wave).real, \
+            ddu - ((k * Omega) ** 2 * wave).real
+    drive = (a0 * (omega**2 - Omega**2 + 2j * c * Omega) * np.exp(1j * theta)).real
+    residual = ddu + 2 * c * du + (omega**2 - shift) * u - drive
+    for (kind, j), x in zip(names, coefficients):
+        residual += x * u**j * (du if kind == "d" else 1.0)
+    return float(np.max(np.abs(residual)))
+
+
+@pytest.mark.parametrize("order", [1, 2, 3, 4, 6])
+def test_consistent_residual_slope_in_eps(order):
+    """Substituted into the equation in contact, the consistent series leaves O(eps^(N+1)):
+    the slope of the residual against the bookkeeping's eps is N + 1 (the scales stay
+    above the round-off floor of some 1e-14, which order 6 meets at eps = 0.02)."""
+    scales = np.array([0.32, 0.16, 0.08, 0.04])
+    residuals = np.array([_residual_in_contact(order, s) for s in scales])
+    slope = np.polyfit(np.log(scales), np.log(residuals), 1)[0]
+    assert abs(slope - (order + 1)) < 0.15, f"measured slope {slope:.3f}, expected {order + 1}"
+
+
+# -- two routes to the numbers --------------------------------------------------------
+
+@pytest.mark.parametrize("parameters", [PAPER, contact(1.5, 0.5), contact(3.0, 2.0)])
+@pytest.mark.parametrize("name", ["paper", "consistent"])
+def test_numeric_scheme_equals_the_closed_forms(parameters, name):
+    """NumericSeries (the scheme on samples) against the lambdified closed forms."""
+    rng = np.random.default_rng(7)
+    a0, omega = rng.uniform(1e-8, 6e-8, 6), rng.uniform(8e3, 1e4, 6)
+    Omega, c = rng.uniform(3e3, 9e3, 6), np.full(6, 150.0)
+    truncation = truncation_for(name, parameters)
+    series = derive(5, truncation)
+    closed = lambdify_chain(series)
+    numeric = NumericSeries(5, type(truncation)(truncation.name, *truncation.at_order(5)))
+    assert numeric.coefficients == closed.coefficients
+    coefficients = series_values(parameters).coefficients(closed.coefficients)
+    for z_closed, z_numeric in zip(closed.amplitudes(a0, omega, Omega, c, *coefficients),
+                                   numeric.amplitudes(a0, omega, Omega, c, *coefficients)):
+        scale = np.max(np.abs(z_closed))
+        assert np.max(np.abs(z_numeric - z_closed)) <= 1e-12 * scale + 1e-300
+    for b_closed, b_numeric in zip(closed.b(a0, omega, Omega, c, *coefficients),
+                                   numeric.b(a0, omega, Omega, c, *coefficients)):
+        np.testing.assert_allclose(b_numeric, b_closed, rtol=1e-12)
+
+
+def test_compile_series_routes():
+    assert type(compile_series(4, "paper")).__name__ == "CompiledSeries"
+    assert type(compile_series(4)).__name__ == "NumericSeries"  # the paper's contact: d_1
+    assert compile_series(4, "consistent", contact(2.0, 0.0)) is compile_series(4, "paper")
+
+
+# -- the backbone ----------------------------------------------------------------------
+
+def test_textbook_coefficient():
+    """(9 k3 omega0^2 - 10 k2^2) a^2 / (24 omega0^4), with k_j = omega0^2 kappa_j / y0^(j-1)."""
+    kappa2 = (m2_symbol - 1) / 2
+    kappa3 = (m2_symbol - 1) * (m2_symbol - 2) / 6
+    textbook = (9 * kappa3 - 10 * kappa2**2) / 24
+    assert sp.simplify(power_law_backbone_coefficients(2)[2] - textbook) == 0
+
+
+def test_paper_contact_backbone_is_todays_in_its_alpha():
+    """m2 = 2: the consistent coefficients in a / y0 are Eq. 2.6's in a / (2 y0), exactly."""
+    consistent, paper = backbone_series(8), backbone_series(8, "paper")
+    assert all(c == p / 2**k for k, (c, p) in enumerate(zip(consistent.coefficients,
+                                                             paper.coefficients)))
+
+
+@pytest.mark.parametrize("m2", [1.5, 2.5, 3.0])
+def test_backbone_against_the_exact_backbone(m2):
+    """The error of the frequency drop at a1 = 0.3 y0 falls with the order (measured:
+    m2 = 1.5: 2.2e-2, 8.2e-4, 4.0e-5, 2.3e-6 at orders 2, 4, 6, 8), and the paper's
+    truncation stays 24-56 % off."""
+    parameters = contact(m2)
+    exact = exact_backbone(np.array([0.3]) * Y0, model=ContactModel(parameters))
+    drop = exact.f_n0_hz - exact.frequency_hz[0]
+    errors = []
+    for order in (2, 4, 6, 8):
+        series = backbone_series(order, parameters=parameters)
+        ratio = series.frequency_ratio(series.alpha_per_m() * exact.a1_m[0])
+        errors.append(abs((exact.f_n0_hz * (1 - ratio)) / drop - 1))
+    assert all(later < earlier / 5 for earlier, later in zip(errors, errors[1:])), errors
+    assert errors[-1] < 1e-5
+    paper = backbone_series(8, "paper", parameters)
+    paper_drop = exact.f_n0_hz * (1 - paper.frequency_ratio(paper.alpha_per_m()
+                                                             * exact.a1_m[0]))
+    assert abs(paper_drop / drop - 1) > 0.2
+
+
+def test_backbone_frequency_at_app():
+    parameters = contact(1.5)
+    exact = exact_backbone(np.array([0.1, 0.3]) * Y0, model=ContactModel(parameters))
+    series = backbone_series(8, parameters=parameters)
+    np.testing.assert_allclose(series.frequency_at_app_hz(exact.app_m), exact.frequency_hz,
+                               rtol=1e-6)
+
+
+# -- the forced response against RK4 of the full model ---------------------------------
+
+def _rk4_app(branch, order, parameters, pa_frac, truncation):
+    orbit = series_orbits(branch, order, parameters, truncation=truncation)
+    found = steady_states(branch.frequency_hz, pa_frac * parameters.Q_n,
+                          model=ContactModel(parameters), y_init_m=orbit.y_start_m,
+                          v_init_m_s=orbit.v_start_m_s, app_guess_m=branch.app_m)
+    assert found.settled.all()
+    return found.app_m
+
+
+@pytest.mark.parametrize("m2, l, pa_frac, band", [
+    (1.5, 0.5, 0.04, (1200.0, 1320.0)),  # softening: the peak bends down
+    (2.5, 1.5, 0.03, (1500.0, 1700.0)),  # hardening: the peak bends up
+])
+def test_forced_response_against_rk4(m2, l, pa_frac, band):
+    """Consistent order 8 within 3 % of RK4 wherever valid (measured: within 0.03 %);
+    the paper's truncation, at the same frequencies, flagged wherever it is off by more
+    than its tolerance."""
+    parameters = contact(m2, l)
+    frequency = np.linspace(*band, 7)
+    response = frequency_response(frequency, pa_frac, 8, parameters=parameters)
+    (branch,) = response.branches  # one response: no spurious bistability
+    rk4 = _rk4_app(branch, 8, parameters, pa_frac, "consistent")
+    assert branch.valid.all()
+    assert np.max(np.abs(branch.app_m / rk4 - 1)) < 3e-3
+    paper = frequency_response(frequency, pa_frac, 8, parameters=parameters,
+                               truncation="paper")
+    off = 0
+    for b in paper.branches:
+        truth = np.interp(b.frequency_hz, frequency, rk4)
+        if len(paper.branches) == 1:
+            truth = _rk4_app(b, 8, parameters, pa_frac, "paper")
+        wrong = np.abs(b.app_m / truth - 1) > 0.01
+        assert not (wrong & b.valid).any()
+        off += int(wrong.sum())
+    assert off >= 2  # the paper's truncation is off there, and says so
+
+
+def test_paper_model_consistent_is_closer_to_rk4():
+    """The paper's contact at 0.05 Q on the bent primary peak: the u u' damping term that
+    Eq. 2.6 leaves out, measured against RK4 of the full model."""
+    frequency = np.array([1400.0, 1440.0, 1470.0])
+    errors = {}
+    for truncation in ("paper", "consistent"):
+        response = frequency_response(frequency, 0.05, 8, truncation=truncation)
+        top = response.branches[0]
+        rk4 = _rk4_app(top, 8, PAPER, 0.05, truncation)
+        errors[truncation] = np.abs(top.app_m / rk4 - 1)
+    assert np.all(errors["consistent"] <= errors["paper"])
+    assert np.max(errors["consistent"]) < 1e-3
+
+
+# -- bad input -------------------------------------------------------------------------
+
+def test_bad_truncation_names_the_argument():
+    for call in (lambda: derive(2, "exact"),
+                 lambda: frequency_response([1000.0], 0.05, 2, truncation="exact"),
+                 lambda: backbone_series(2, "full"),
+                 lambda: compile_series(2, "none")):
+        with pytest.raises(ValueError, match="`truncation` must be one of"):
+            call()
+
+
+def test_compiled_engine_refuses_a_series_it_has_no_kernels_for():
+    with pytest.raises(ValueError, match="engine='compiled'"):
+        frequency_response([1000.0], 0.05, 2, engine="compiled")
+
+
+def test_derivation_study_refuses_a_consistent_series():
+    from perturb import derivation_text
+
+    with pytest.raises(ValueError, match="`series` must be Eq. 2.6's"):
+        derivation_text(derive(2))

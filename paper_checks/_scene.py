@@ -159,7 +159,7 @@ def _derive_formulas() -> None:
     evaluate, derived once into the cache on disk (or found there). Not kept in this
     worker's memory: the study that may run here next times each order's first call."""
     for order in range(max(SERIES_ORDERS) + ERROR_ORDERS + 1):
-        compile_series.__wrapped__(order, "paper")
+        lambdified_series.__wrapped__(order)
 
 
 @contextmanager

@@ -74,8 +74,10 @@ def _derive(args: argparse.Namespace) -> None:
              f"and print (above order {SLOW_PRINT_ORDER}; {SLOW_PRINT_EXAMPLE})",
              quiet=args.quiet)
     parameters = model_parameters(args)
-    series = timed("derivation", lambda: derive(args.order, args.truncation, parameters))
-    if args.steps and not series.truncation.is_paper_equation():
+    # The derivation study is Eq. 2.6's in the paper's names: --steps asks for it.
+    truncation = args.truncation or ("paper" if args.steps else "consistent")
+    series = timed("derivation", lambda: derive(args.order, truncation, parameters))
+    if args.steps and not series.is_eq26:
         args.parser.error("argument --steps: the derivation study writes Eq. 2.6's series in "
                           "the paper's names; add --truncation paper (this contact's "
                           f"consistent series keeps {[c for c in series.coefficients]})")
@@ -167,9 +169,11 @@ def _parser() -> argparse.ArgumentParser:
     for sub in (derive_cmd, backbone_cmd):
         add_model_option(sub)
     for sub in (derive_cmd, backbone_cmd, response_cmd):
-        sub.add_argument("--truncation", choices=TRUNCATIONS, default="consistent",
+        sub.add_argument("--truncation", choices=TRUNCATIONS,
+                         default=None if sub is derive_cmd else "consistent",
                          help="consistent: every term k_j u^j, d_j u^j u' of the contact's "
-                         "equation up to the order (default); paper: Eq. 2.6")
+                         "equation up to the order (default; paper with --steps); paper: "
+                         "Eq. 2.6")
         # SUPPRESS: a --quiet given before the command is not reset here.
         sub.add_argument(
             "--quiet", action="store_true", default=argparse.SUPPRESS, help="no progress on stderr"

@@ -117,7 +117,7 @@ TITLES = {
 def _check_study(series) -> Series:
     """The series, if it is Eq. 2.6's: the study writes the paper's terms, names and steps."""
     series = _check_series(series)
-    if not series.truncation.is_paper_equation():
+    if not series.is_eq26:
         raise ValueError("`series` must be Eq. 2.6's (derive(order, 'paper')): the derivation "
                          "study writes the paper's terms in the paper's names; got a series "
                          f"that keeps {list(series.coefficients)}.")

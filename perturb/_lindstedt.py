@@ -187,6 +187,8 @@ class Series:
         self.order = sym.check_order(order)
         self.truncation = truncation
         self.equations = _derive_orders(self.order, truncation)
+        #: Whether the series keeps Eq. 2.6's terms only (h and linear damping).
+        self.is_eq26 = truncation.at_order(order) == PAPER_TRUNCATION.at_order(order)
 
     @property
     def coefficients(self) -> tuple[tuple[str, int], ...]:
@@ -272,7 +274,7 @@ class Series:
     def __repr__(self) -> str:
         bs = [sym.b(n) if self.has_b(n) else 0 for n in range(1, self.order + 1)]
         harmonics = [self.harmonics(n) for n in range(self.order + 1)]
-        kept = "" if self.truncation.is_paper_equation() else (
+        kept = "" if self.is_eq26 else (
             f", truncation={self.truncation.name!r}, "
             f"terms={[str(sym.coefficient(*c)) for c in self.coefficients]}")
         return f"Series(order={self.order}, b={bs}, harmonics={harmonics}{kept})"

@@ -57,7 +57,7 @@ def generic_right_side(n: int, series: Series | None = None) -> sp.Expr:
         return sym.G * sp.cos(sym.Omega * sym.t)
     bs = sp.Add(*(sym.b(k) * _u(n - k) for k in range(1, n + 1)))
     products = sp.Add(*(_u(i) * _u(n - 1 - i) for i in range(n)))
-    if series is None or series.truncation.is_paper_equation():
+    if series is None or series.is_eq26:
         return bs - sym.h * products
     eps = sym.eps
     u = sp.Add(*(eps**i * _u(i) for i in range(n)))
@@ -179,7 +179,7 @@ def text_report(series: Series, *, pretty: bool = False, each_order=None) -> str
 def _heading(series: Series) -> list[str]:
     """The report's first lines: Eq. 2.6, or the equation in contact with the closed form
     of each coefficient the truncation keeps beyond it."""
-    if series.truncation.is_paper_equation():
+    if series.is_eq26:
         return [f"Perturbation series of Eq. 2.6 to order {series.order}",
                 "Eq. 2.6: u'' + 2*c*u' + omega0**2*u + eps*h*u**2 = G*cos(Omega*t)"]
     lines = [f"Perturbation series of the equation in contact to order {series.order} "

@@ -399,7 +399,9 @@ def frequency_response(
         branches=branches,
         model=_series_model(parameters, resolved),
         settings={"omega_range": list(omega_range), "grid_points": grid_points,
-                  "samples": samples, "tolerance": tolerance, "truncation": resolved.name},
+                  "samples": samples, "tolerance": tolerance,
+                  # Eq. 2.6's series as it always was; its model's effects say so too.
+                  **({} if resolved.name == "paper" else {"truncation": resolved.name})},
         elapsed_s=time.perf_counter() - start,
     )
 

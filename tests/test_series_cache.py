@@ -7,7 +7,10 @@ import pytest
 
 from perturb import _compiled
 from perturb._cache import write_generated
-from perturb._compiled import compile_series, formulas_cached
+from perturb._compiled import formulas_cached
+
+# Eq. 2.6's series, the one whose lambdified formulas are kept on disk.
+compile_series = _compiled.lambdified_series
 
 ORDER = 4
 #: (A0, omega, Omega, c, h): dimensionless values, as tests/test_perturb_series.py uses.

@@ -46,10 +46,10 @@ from perturb import (
     PAPER_COEXISTENCE,
     PAPER_PANEL_FRACTIONS,
     ContactModel,
-    compile_series,
     derive,
     eq26_numbers,
 )
+from perturb._compiled import lambdified_series
 
 from ._forked import ForkedJobs, forks
 from ._work_precision import ERROR_ORDERS, SERIES_ORDERS, WorkPrecision, scene_methods

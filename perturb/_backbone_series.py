@@ -211,7 +211,7 @@ class BackboneSeries(Result):
         out = np.full(app_m.shape, np.nan)
         for i, target in enumerate(app_m):
             if 0 < target <= apps[top - 1]:
-                alpha = brentq(lambda a: self.peak_to_peak_m(a) - target, 0.0,
+                alpha = brentq(lambda a, app=target: self.peak_to_peak_m(a) - app, 0.0,
                                alphas[top - 1], xtol=1e-15, rtol=1e-13)
                 out[i] = self.model["f_n0_hz"] * self.frequency_ratio(alpha)
             elif target == 0:

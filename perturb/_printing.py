@@ -189,7 +189,8 @@ def _heading(series: Series) -> list[str]:
     from ._truncation import coefficient_closed_form
 
     for kind, j in (("k", 1), ("d", 0), *series.coefficients):
-        name = {("k", 1): "omega0**2", ("d", 0): "2*c"}.get((kind, j), str(sym.coefficient(kind, j)))
+        names = {("k", 1): "omega0**2", ("d", 0): "2*c"}
+        name = names.get((kind, j), str(sym.coefficient(kind, j)))
         lines.append(f"  {name} = {sp.sstr(coefficient_closed_form(kind, j))}")
     return lines
 

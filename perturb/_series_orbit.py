@@ -16,10 +16,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._compiled import compile_series
-from ._truncation import series_values
 from ._parameters import PAPER, ContactParameters
 from ._response import Branch
 from ._response_numpy import harmonics_in_drive_frame, refined_at, sample_waveform
+from ._truncation import series_values
 
 __all__ = ["SeriesOrbits", "series_orbits"]
 

@@ -9,12 +9,12 @@ compiled route to it (same branches, roots, validity), and
 
 from __future__ import annotations
 
+from functools import partial as _partial
+
 from perturb import frequency_response
 from perturb._response import Response
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 frequency_response = _partial(frequency_response, truncation="paper")
 
 

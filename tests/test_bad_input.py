@@ -1,6 +1,8 @@
 """Bad input is a ValueError (a KeyError for a lookup) that names the argument and its
 value, never a bare ZeroDivisionError, IndexError or StopIteration (issue 9, item 4)."""
 
+from functools import partial as _partial
+
 import numpy as np
 import pytest
 
@@ -8,8 +10,6 @@ from numerics import attractors, compare, hysteresis_loop, simulate, steady_stat
 from perturb import frequency_response
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 frequency_response = _partial(frequency_response, truncation="paper")
 
 

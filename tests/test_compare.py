@@ -1,6 +1,7 @@
 """The perturbation series against the exact backbone and RK4 steady states."""
 
 import json
+from functools import partial as _partial
 
 import numpy as np
 import pytest
@@ -12,8 +13,6 @@ from numerics.cli import main
 from perturb import frequency_response
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 frequency_response = _partial(frequency_response, truncation="paper")
 
 ORDERS = (2, 4, 6, 8, 10)

@@ -8,6 +8,7 @@ the unstable middle root too) against the continued branch.
 import json
 import subprocess
 import sys
+from functools import partial as _partial
 
 import numpy as np
 import pytest
@@ -17,8 +18,6 @@ from numerics import continue_orbits, simulate, sweep
 from perturb import EQ_2_6, PAPER, ContactModel, eq26_numbers, frequency_response
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 frequency_response = _partial(frequency_response, truncation="paper")
 
 

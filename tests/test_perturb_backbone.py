@@ -1,6 +1,7 @@
 """The backbone series of the free, undamped Eq. 2.6 against its numerical period."""
 
 from fractions import Fraction
+from functools import partial as _partial
 
 import numpy as np
 import pytest
@@ -9,8 +10,6 @@ from scipy.integrate import solve_ivp
 from perturb import backbone_series
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 backbone_series = _partial(backbone_series, truncation="paper")
 
 

@@ -17,6 +17,7 @@ and the regrouped A7 (difference 1); b1 = b3 = 0 (difference 4).
 
 import re
 import time
+from functools import partial as _partial
 
 import mpmath
 import pytest
@@ -35,8 +36,6 @@ from perturb import (
 from perturb.__main__ import main
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 derive = _partial(derive, truncation="paper")
 compile_series = _partial(compile_series, truncation="paper")
 

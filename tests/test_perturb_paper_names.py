@@ -5,6 +5,8 @@ The paper's equations are typed here as printed (with the conventions that
 hand-derived route to the same amplitudes, phases and b_n.
 """
 
+from functools import partial as _partial
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -14,8 +16,6 @@ from perturb._compiled import compile_series
 from perturb._paper_names import PAPER_NAMES, paper_names
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 compile_series = _partial(compile_series, truncation="paper")
 
 VALUES = eq26_numbers()

@@ -4,6 +4,7 @@ import json
 import os
 import subprocess
 import sys
+from functools import partial as _partial
 from pathlib import Path
 
 import numpy as np
@@ -14,8 +15,6 @@ from perturb import compile_series, derive, eq26_numbers, latex_report, series_j
 from perturb.__main__ import main
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 derive = _partial(derive, truncation="paper")
 compile_series = _partial(compile_series, truncation="paper")
 

@@ -11,6 +11,7 @@ import functools
 import subprocess
 import sys
 import warnings
+from functools import partial as _partial
 
 import numpy as np
 import pytest
@@ -31,8 +32,6 @@ from perturb._response_codegen import series_kernels
 from ._response_reference import reference_response
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 frequency_response = _partial(frequency_response, truncation="paper")
 compile_series = _partial(compile_series, truncation="paper")
 

@@ -12,6 +12,7 @@ import sys
 import time
 from dataclasses import fields
 from fractions import Fraction
+from functools import partial as _partial
 from pathlib import Path
 
 import numpy as np
@@ -36,8 +37,6 @@ from perturb import (
 from perturb.__main__ import main
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 frequency_response = _partial(frequency_response, truncation="paper")
 backbone_series = _partial(backbone_series, truncation="paper")
 

@@ -5,6 +5,8 @@ The residual checks substitute the truncated series back into Eq. 2.6 itself
 harmonic algebra that produced it.
 """
 
+from functools import partial as _partial
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -15,8 +17,6 @@ from perturb._compiled import A0, complex_chain
 from perturb._lindstedt import gain_closed_form, lag_closed_form
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 derive = _partial(derive, truncation="paper")
 compile_series = _partial(compile_series, truncation="paper")
 

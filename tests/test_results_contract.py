@@ -9,6 +9,7 @@ and every class registered by ``@result`` must be reached.
 
 import json
 from dataclasses import fields
+from functools import partial as _partial
 
 import numpy as np
 import pytest
@@ -34,8 +35,6 @@ from numerics.scenes import parse_scene, run_scene
 from perturb import PAPER, backbone_series, frequency_response
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 frequency_response = _partial(frequency_response, truncation="paper")
 backbone_series = _partial(backbone_series, truncation="paper")
 

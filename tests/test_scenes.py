@@ -3,6 +3,7 @@
 import dataclasses
 import subprocess
 import sys
+from functools import partial as _partial
 
 import numpy as np
 import pytest
@@ -24,8 +25,6 @@ from perturb import (
 )
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 frequency_response = _partial(frequency_response, truncation="paper")
 
 SWEEP = """

@@ -1,5 +1,7 @@
 """The orbit a root of the series describes, as the simulator's state (perturb.series_orbits)."""
 
+from functools import partial as _partial
+
 import numpy as np
 import pytest
 
@@ -7,8 +9,6 @@ from numerics import steady_states
 from perturb import EQ_2_6, PAPER, ContactModel, eq26_numbers, frequency_response, series_orbits
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 frequency_response = _partial(frequency_response, truncation="paper")
 series_orbits = _partial(series_orbits, truncation="paper")
 

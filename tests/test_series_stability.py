@@ -7,6 +7,8 @@ Eq. 2.6 the trace of the Jacobian is -2c everywhere, so (Liouville) the multipli
 product is exp(-2c T) on every orbit.
 """
 
+from functools import partial as _partial
+
 import numpy as np
 import pytest
 
@@ -15,8 +17,6 @@ from numerics.plots import plot_series_stability
 from perturb import EQ_2_6, PAPER, ContactModel, eq26_numbers, frequency_response
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
-from functools import partial as _partial  # noqa: E402
-
 frequency_response = _partial(frequency_response, truncation="paper")
 
 EQ26 = ContactModel(PAPER, EQ_2_6)

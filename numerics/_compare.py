@@ -22,6 +22,7 @@ from common import (
     result,
 )
 from perturb import PAPER, PAPER_BAND_HZ, ContactModel, ContactParameters, frequency_response
+from perturb._truncation import truncation_for
 
 from ._compare_backbone import BackboneComparison, compare_backbones
 from ._compare_response import (
@@ -145,6 +146,7 @@ def compare(
     tolerance: float = 0.01,
     parameters: ContactParameters = PAPER,
     quiet: bool = True,
+    truncation: str = "consistent",
 ) -> Comparison:
     """Series of each order against the exact backbone and RK4 steady states.
 
@@ -166,6 +168,9 @@ def compare(
         the paper's band.
     quiet : bool
         No progress on stderr.
+    truncation : {"consistent", "paper"}
+        The series compared: every term of the contact's equation up to the order, or
+        Eq. 2.6's (``perturb.frequency_response``, ``perturb.backbone_series``).
 
     Returns
     -------
@@ -173,7 +178,8 @@ def compare(
 
     Examples
     --------
-    >>> result = compare((4, 6), 0.05, frequency_hz=np.arange(700.0, 800.0, 5.0))
+    >>> result = compare((4, 6), 0.05, frequency_hz=np.arange(700.0, 800.0, 5.0),
+    ...                  truncation="paper")
     >>> [f"{result.response('eq26', 0.05, n).largest_error:.1e}" for n in (4, 6)]
     ['2.2e-04', '1.5e-05']
     """
@@ -186,7 +192,9 @@ def compare(
     start = time.perf_counter()
     if not isinstance(parameters, ContactParameters):
         raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
-    backbone = compare_backbones(orders, model=ContactModel(parameters), tolerance=tolerance)
+    truncation = truncation_for(truncation, parameters).name  # a bad name: a ValueError
+    backbone = compare_backbones(orders, model=ContactModel(parameters), tolerance=tolerance,
+                                 truncation=truncation)
     limits = dict(zip(backbone.orders, backbone.limit_app_m))
     bar = progress(len(MODELS), "compare: RK4 sweeps", quiet=quiet)
     by_model = {}
@@ -195,17 +203,18 @@ def compare(
         bar.update()
     bar.close()
     curves = [by_model[model][i] for i in range(len(pa_frac)) for model in MODELS]
-    # The series is of Eq. 2.6 whatever the model it is compared with: solved once per
-    # amplitude and order, for the curves of both models.
+    # One series whatever the model it is compared with: solved once per amplitude and
+    # order, for the curves of both models.
     series = {(frac, n): frequency_response(grid, frac, n, parameters=parameters,
-                                                truncation="paper")
+                                            truncation=truncation)
               for frac in pa_frac for n in backbone.orders}
     responses = [compare_response(curve, n, grid, limits[n], parameters,
                                   response=series[curve.pa_frac, n])
                  for curve in curves for n in backbone.orders]
     settings = {"orders": list(orders), "pa_frac": list(pa_frac),
                 "steps_per_period": steps_per_period, "tolerance": tolerance,
-                "models": {name: asdict(effects) for name, effects in MODELS.items()}}
+                "models": {name: asdict(effects) for name, effects in MODELS.items()},
+                **({} if truncation == "paper" else {"truncation": truncation})}
     return Comparison(model=ContactModel(parameters).as_dict(), settings=settings,
                       backbone=backbone, curves=curves, responses=responses, frequency_hz=grid,
                       tolerance=tolerance, elapsed_s=time.perf_counter() - start)

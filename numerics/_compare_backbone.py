@@ -182,6 +182,7 @@ def compare_backbones(
         limit_a1_m=np.minimum(crossing_a1, loss_a1), limit_app_m=np.minimum(crossing_app, loss_app),
         crossing_a1_m=crossing_a1, crossing_app_m=crossing_app,
         contact_loss_app_m=loss_app, tolerance=tolerance, model=model.as_dict(),
-        settings={"points": points, "truncation": backbones[0].settings.get(
-            "truncation", "paper")}, elapsed_s=time.perf_counter() - start,
+        settings={"points": points, **{key: backbones[0].settings[key] for key in
+                                        ("truncation",) if key in backbones[0].settings}},
+        elapsed_s=time.perf_counter() - start,
     )

@@ -114,7 +114,7 @@ class SeriesStability(Result):
     branches : list of SeriesBranchStability
         Branch j: the stability of the response's branch j.
     model : dict
-        Eq. 2.6: the response's model (``EQ_2_6`` effects).
+        The response's model (``EQ_2_6`` effects for the paper's truncation).
     settings : dict
         ``steps_per_period`` (N of the RK4 period map) and ``reach``.
     elapsed_s : float
@@ -141,7 +141,8 @@ class SeriesStability(Result):
 def series_stability(response: Response, *, steps_per_period: int = DEFAULTS["steps_per_period"],
                      reach: float = DEFAULTS["reach"]) -> SeriesStability:
     """Stable, unstable or unknown: each root of ``response``, by the Floquet multipliers
-    of the Eq. 2.6 orbit it describes.
+    of the orbit it describes, in the response's model (Eq. 2.6's for the paper's
+    truncation, the contact's own for the consistent one).
 
     Parameters
     ----------
@@ -172,7 +173,8 @@ def series_stability(response: Response, *, steps_per_period: int = DEFAULTS["st
     start = time.perf_counter()
     model = ContactModel.from_dict(response.model)
     branches = response.branches
-    lanes = _Roots.gather(branches, response.order, model)
+    lanes = _Roots.gather(branches, response.order, model,
+                          response.settings.get("truncation", "paper"))
     found = _shoot(model, lanes, response.pa_frac * model.parameters.Q_n, steps)
     distance, status, message = _verdict(lanes, found, model, steps, reach)
     out = []
@@ -204,8 +206,9 @@ class _Roots:
         return [np.arange(lo, hi) for lo, hi in zip(self.bounds[:-1], self.bounds[1:])]
 
     @classmethod
-    def gather(cls, branches, order: int, model: ContactModel) -> _Roots:
-        starts = [series_orbits(b, order, model.parameters, truncation="paper") for b in branches]
+    def gather(cls, branches, order: int, model: ContactModel, truncation: str) -> _Roots:
+        starts = [series_orbits(b, order, model.parameters, truncation=truncation)
+                  for b in branches]
 
         def column(values):
             return np.concatenate([np.asarray(a, dtype=float) for a in values] or [[]])

@@ -80,7 +80,9 @@ def _error(text: str) -> str:
      "pa_frac = 0.1\nfrequency_hz = [1.0]\n[output]\nfigures = ['app']\n",
      "output.figures", None),
     ("[model]\nm2 = 0.5\n[study]\nkind = 'backbone'\n", "model.m2", 2),
-    ("effects = 'full'\n[study]\nkind = 'analytic_response'\n[excitation]\npa_frac = 0.1\n"
+    ("effects = 'full'\n[study]\nkind = 'analytic_response'\ntruncation = 'paper'\n"
+     "[excitation]\npa_frac = 0.1\nfrequency_hz = [1.0]\n", "effects", 1),
+    ("effects = 'eq26'\n[study]\nkind = 'analytic_response'\n[excitation]\npa_frac = 0.1\n"
      "frequency_hz = [1.0]\n", "effects", 1),
 ])
 def test_a_bad_scene_is_one_error_naming_file_key_line_and_value(text, key, line):
@@ -168,7 +170,7 @@ def test_set_reaches_the_analytic_response_command(tmp_path):
     out = tmp_path / "r.json"
     assert perturb_main(["response", "--pa-frac", "0.05", "--set", "m2=1.5", "--set", "l=0.5",
                          "--fmin", "5000", "--fmax", "9000", "--points", "5", "--quiet",
-                         "--json", str(out)]) == 0
+                         "--json", str(out), "--truncation", "paper"]) == 0
     written = load(out)
     expected = frequency_response(np.linspace(5000.0, 9000.0, 5), 0.05,
                                   parameters=parameters_with({"m2": 1.5, "l": 0.5}))
@@ -267,6 +269,7 @@ def test_the_analytic_response_scene_is_the_series_of_eq26():
     [study]
     kind = "analytic_response"
     order = 2
+    truncation = "paper"
     """
     run = run_scene(parse_scene(text))
     direct = frequency_response([800.0, 1000.0], 0.05, 2, tolerance=5e-3)

@@ -19,6 +19,9 @@ def add_compare_parser(sub) -> None:
     parser.add_argument("--pa-frac", type=nonnegative_float, nargs="+",
                         default=[0.05, 0.10, 0.15],
                         help="force amplitudes P_a / Q, finite, >= 0 (default 0.05 0.10 0.15)")
+    parser.add_argument("--truncation", choices=("consistent", "paper"), default="consistent",
+                        help="the series: every term of the contact's equation up to the "
+                        "order (consistent, the default) or Eq. 2.6's (paper)")
     parser.add_argument("--json", metavar="FILE", type=output_file,
                         help="also write the result as JSON")
     parser.add_argument("--plot", metavar="FILE.png", type=output_file,
@@ -34,7 +37,8 @@ def _compare(args: argparse.Namespace) -> int:
     # --orders and --pa-frac are checked by their argparse types (exit 2, naming
     # the option); compare() checks them again for callers from Python.
     result = compare(sorted(set(args.orders)), sorted(set(args.pa_frac)),
-                     parameters=model_parameters(args), quiet=args.quiet)
+                     parameters=model_parameters(args), quiet=args.quiet,
+                     truncation=args.truncation)
     if args.json:
         result.to_json(args.json)
     print(result)

@@ -99,6 +99,8 @@ def _walk_options(module: str) -> dict[str, Option]:
 
 
 _STEADY = ("app", "extrema", "spectrum", "contact_fraction")
+#: Which terms of the contact's equation a series keeps (``perturb.derive``).
+_TRUNCATION = Option("choice", "consistent", choices=("consistent", "paper"))
 #: Figures drawn from an observable, which the scene must ask for (a sweep's App figure
 #: is drawn from the sweep itself).
 _FIGURE_NEEDS = {name: name for name in ("app", "spectrum", "contact_fraction",
@@ -125,17 +127,19 @@ STUDIES: dict[str, Study] = {
         ("hysteresis", "app"), ("hysteresis",), ("hysteresis",),
         needs=("pa_frac", "frequency_hz")),
     "analytic_response": Study(
-        {"order": Option("int", 6, 0, 20)}, ("app", "extrema"), ("app",), ("app",),
+        {"order": Option("int", 6, 0, 20), "truncation": _TRUNCATION},
+        ("app", "extrema"), ("app",), ("app",),
         needs=("pa_frac", "frequency_hz")),
     "backbone": Study(
-        {"order": Option("int", 8, 1, 40), "points": Option("int", 200, 2, 10**5)},
+        {"order": Option("int", 8, 1, 40), "points": Option("int", 200, 2, 10**5),
+         "truncation": _TRUNCATION},
         ("app",), ("app",), ("backbone",)),
     "derivation": Study({"order": Option("int", 4, 0, 12)}, (), (), ()),
     "natural_frequency": Study({"points": Option("int", 100, 2, 10**5)}, (), (),
                                ("natural_frequency",)),
     "comparison": Study(
         {"orders": Option("ints", (2, 4, 6, 8), 0, 20),
-         "steps_per_period": Option("int", 128, 4, 2**16)},
+         "steps_per_period": Option("int", 128, 4, 2**16), "truncation": _TRUNCATION},
         ("app",), ("app",), ("comparison",), needs=("pa_frac", "frequency_hz")),
     "continuation": Study(
         {"continued_in": Option("choice", "frequency_hz", choices=("frequency_hz", "pa_frac")),
@@ -164,10 +168,21 @@ STUDIES: dict[str, Study] = {
 #: Studies whose effects are fixed: the series is of Eq. 2.6, the comparison runs both.
 _DEFAULT_EFFECTS = {"analytic_response": "eq26", "derivation": "eq26", "comparison": "full",
                     "natural_frequency": "eq26"}
-_FIXED_WHY = {"analytic_response": "solves the series of Eq. 2.6",
+_FIXED_WHY = {"analytic_response": "solves the series of Eq. 2.6 (truncation = \"paper\")",
               "derivation": "derives the series of Eq. 2.6",
               "natural_frequency": "is f_n0 of Eq. 2.6 in closed form",
               "comparison": "compares the series with RK4 of Eq. 2.6 and of the full model"}
+
+_CONSISTENT_WHY = "solves the consistent series of the contact's own equation in contact"
+
+
+def _fixed_effects(kind: str, options: dict) -> str | None:
+    """The effects a study fixes: the analytic response's follow its truncation (Eq. 2.6's
+    series: "eq26"; the consistent series of the contact's own laws: "full")."""
+    if kind == "analytic_response" and options.get("truncation") == "consistent":
+        return "full"
+    return _DEFAULT_EFFECTS.get(kind)
+
 
 _TOP = ("title", "description", "effects", "observables", "tolerance", "model", "excitation",
         "study", "output")
@@ -332,8 +347,8 @@ class _Reader:
         options = self.options(kind, study, study_table)
         overrides = self.model(data.get("model", {}))
         parameters = self.parameters(overrides)
-        effects = self.effects(data.get("effects", _DEFAULT_EFFECTS.get(kind, "full")), study,
-                               kind)
+        fixed = _fixed_effects(kind, options)
+        effects = self.effects(data.get("effects", fixed or "full"), study, kind, fixed)
         pa_frac, frequency = self.excitation(data.get("excitation"), study, kind)
         observables = self.observables(data.get("observables"), study, kind)
         tolerance = self.number("tolerance", data.get("tolerance", DEFAULT_TOLERANCE),
@@ -409,11 +424,10 @@ class _Reader:
                 message = message.removeprefix(f"`{name}` ")
             self.fail(f"model.{name}" if name else "model", message)
 
-    def effects(self, value, study: Study, kind: str) -> Effects | None:
-        fixed = _DEFAULT_EFFECTS.get(kind)
+    def effects(self, value, study: Study, kind: str, fixed: str | None) -> Effects | None:
         if fixed is not None and value != fixed:
-            self.fail("effects", f"of a {kind} study are {fixed!r} (it "
-                                 f"{_FIXED_WHY[kind]}); got {value!r}")
+            why = _FIXED_WHY[kind] if fixed == _DEFAULT_EFFECTS[kind] else _CONSISTENT_WHY
+            self.fail("effects", f"of a {kind} study are {fixed!r} (it {why}); got {value!r}")
         if value == "auto":
             if not study.auto:
                 self.fail("effects", f"= \"auto\" applies to the studies "

@@ -104,10 +104,11 @@ def _analytic(scene, model, grid, quiet) -> StudyRun:
 
     responses = [frequency_response(grid, frac, scene.options["order"],
                                     parameters=model.parameters, tolerance=scene.tolerance,
-                                    truncation="paper")
+                                    truncation=scene.options["truncation"])
                  for frac in scene.pa_frac]
-    return StudyRun(responses, f"the compiled series of order {scene.options['order']} "
-                               "(every root, its extrema and its error estimate)")
+    return StudyRun(responses, f"the {scene.options['truncation']} series of order "
+                               f"{scene.options['order']} (every root, its extrema and its "
+                               "error estimate)")
 
 
 def _backbone(scene, model, grid, quiet) -> StudyRun:
@@ -116,7 +117,9 @@ def _backbone(scene, model, grid, quiet) -> StudyRun:
     from .._backbone import exact_backbone
 
     exact = exact_backbone(model=model, points=scene.options["points"])
-    return StudyRun([exact, backbone_series(scene.options["order"], "paper")],
+    series = backbone_series(scene.options["order"], scene.options["truncation"],
+                             model.parameters)
+    return StudyRun([exact, series],
                     "the period quadrature of the free oscillation, and the series")
 
 
@@ -140,7 +143,8 @@ def _comparison(scene, model, grid, quiet) -> StudyRun:
 
     result = compare(scene.options["orders"], scene.pa_frac, frequency_hz=grid,
                      steps_per_period=scene.options["steps_per_period"],
-                     parameters=model.parameters, quiet=quiet)
+                     parameters=model.parameters, quiet=quiet,
+                     truncation=scene.options["truncation"])
     return StudyRun([result], "series, exact backbone, and RK4 steady states of Eq. 2.6 and "
                               "of the full model")
 

@@ -203,6 +203,28 @@ def _equation_text(series: Series) -> sp.Expr:
     return sp.Add(*terms, evaluate=False)
 
 
+def _consistent_latex_heading(series: Series) -> list[str]:
+    """The equation in contact that the series solves, and its coefficients in closed form."""
+    from ._truncation import coefficient_closed_form
+
+    u, du = sp.Symbol("u"), sp.Symbol("udot")  # sorts after u: d_1 u \dot u
+    extra = sp.Add(*(sym.coefficient(kind, j) * u**j * (du if kind == "d" else 1)
+                     for kind, j in series.coefficients))
+    extra_latex = sp.latex(extra, symbol_names={**latex_names(extra), du: r"\dot u"})
+    rows = [rf"{_latex(left)} &= {_latex(coefficient_closed_form(kind, j))}"
+            for left, (kind, j) in zip([sym.coefficient(*c) for c in series.coefficients],
+                                       series.coefficients)]
+    return [
+        rf"% Perturbation series of the equation in contact to order {series.order}, "
+        rf"{series.truncation.name} truncation (perturb derive)",
+        r"\begin{align*}",
+        rf"\ddot u + 2c\,\dot u + \omega_0^2 u + {extra_latex} &= G\cos(\Omega t)\\",
+        *(row + r"\\" for row in rows),
+        rf"\omega^2 &= {_latex(series.omega_squared())}",
+        r"\end{align*}",
+    ]
+
+
 def _latex(expr: sp.Expr) -> str:
     return sp.latex(expr, symbol_names=latex_names(expr))
 
@@ -233,7 +255,7 @@ def latex_report(series: Series) -> str:
         r"\ddot u + 2c\,\dot u + \omega_0^2 u + \varepsilon h u^2 &= G\cos(\Omega t)\\",
         rf"\omega^2 &= {_latex(series.omega_squared())}",
         r"\end{align*}",
-    ]
+    ] if series.is_eq26 else _consistent_latex_heading(series)
     for n in range(series.order + 1):
         out.append(rf"\paragraph{{$\varepsilon^{{{n}}}$}}")
         out.append(r"\begin{align*}")
@@ -262,7 +284,9 @@ def series_json(series: Series) -> dict:
 
     Keys: ``order``; ``b`` (n -> b_n); ``terms``, one per harmonic of each u_n
     with ``name``, ``order``, ``harmonic``, ``amplitude`` and ``phase`` in closed
-    form of lower-order names and of c, h, G, omega, Omega; ``paper_names``.
+    form of lower-order names and of c, h, G, omega, Omega (and the k_j, d_j the
+    series keeps); for Eq. 2.6's series ``paper_names``, for any other ``truncation``
+    and ``coefficients`` (each k_j, d_j in closed form of S, c_n, m2, h_n, l, M, y0).
 
     Examples
     --------
@@ -287,12 +311,18 @@ def series_json(series: Series) -> dict:
                     "phase": sp.sstr(phase),
                 }
             )
-    return {
+    data = {
         "order": series.order,
         "b": {str(n): sp.sstr(series.b_closed_form(n)) for n in range(1, series.order + 1)},
         "terms": terms,
-        "paper_names": paper_names(min(series.order, 4)),
     }
+    if series.is_eq26:
+        return {**data, "paper_names": paper_names(min(series.order, 4))}
+    from ._truncation import coefficient_closed_form
+
+    return {**data, "truncation": series.truncation.name,
+            "coefficients": {str(sym.coefficient(kind, j)): sp.sstr(coefficient_closed_form(
+                kind, j)) for kind, j in series.coefficients}}
 
 
 def _explicit(series: Series, n: int, k: int) -> tuple[sp.Expr, sp.Expr]:

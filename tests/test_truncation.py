@@ -248,3 +248,43 @@ def test_derivation_study_refuses_a_consistent_series():
 
     with pytest.raises(ValueError, match="`series` must be Eq. 2.6's"):
         derivation_text(derive(2))
+
+
+# -- printing --------------------------------------------------------------------------
+
+def test_the_consistent_series_prints_its_coefficients(tmp_path):
+    """Text, LaTeX and JSON name k_j and d_j and give their closed forms; the command
+    line writes them for the contact of --set."""
+    import json
+
+    from perturb import latex_report, series_json, text_report
+    from perturb.__main__ import main
+
+    series = derive(2, parameters=contact(1.5, 0.5))
+    text = text_report(series)
+    assert "k_3 = S*c_n*m2*y0**(m2 - 3)*(m2**2 - 3*m2 + 2)/(6*M)" in text
+    assert "b_2 = 3*A_0_1**2*k_3/4" in text  # the textbook 3/4 k3 a^2 of the cubic spring
+    assert r"d_{2} u^{2} \dot u" in latex_report(series)
+    data = series_json(series)
+    assert data["truncation"] == "consistent" and "paper_names" not in data
+    assert set(data["coefficients"]) == {"h", "k_3", "d_1", "d_2"}
+    out = tmp_path / "s.json"
+    assert main(["--quiet", "derive", "--order", "2", "--set", "m2=1.5", "--set", "l=0.5",
+                 "--json", str(out)]) == 0
+    assert json.loads(out.read_text())["coefficients"] == data["coefficients"]
+
+
+def test_cli_backbone_at_amplitudes(tmp_path):
+    import json
+
+    from perturb.__main__ import main
+
+    out = tmp_path / "b.json"
+    parameters = contact(1.5)
+    exact = exact_backbone(np.array([0.2]) * Y0, model=ContactModel(parameters))
+    sets = [f"--set=c_n={parameters.c_n!r}", "--set=m2=1.5"]
+    assert main(["--quiet", "backbone", "--order", "8", *sets, "--app-m",
+                 repr(float(exact.app_m[0])), "--json", str(out)]) == 0
+    data = json.loads(out.read_text())
+    assert data["app_m"] == [float(exact.app_m[0])]
+    assert data["frequency_hz"][0] == pytest.approx(exact.frequency_hz[0], rel=1e-6)

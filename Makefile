@@ -55,6 +55,14 @@ figures: $(STAMP)
 	$(PY) -c "from numerics import atlas, fold_curves; from numerics.plots import plot_atlas; \
 	plot_atlas(atlas(1150.0, 1550.0, 0.02, 0.08, grid=(41, 16)), 'docs/figures/atlas.png', \
 	folds=fold_curves(1150.0, 1550.0, 0.02, 0.08))"
+	$(PY) -c "import numpy as np; from numerics import exact_backbone; \
+	from numerics.plots import plot_backbone_truncations as plot; \
+	from perturb import PAPER, ContactModel, backbone_series, eq26_numbers, parameters_with; \
+	y0 = eq26_numbers().y0_m; contacts = [parameters_with({'m2': m, 'c_n': PAPER.Q_n / \
+	(PAPER.S * y0 ** m)}) for m in (1.5, 2.0, 2.5)]; \
+	plot([(exact_backbone(y0 * np.geomspace(0.01, 0.6, 60), model=ContactModel(p)), \
+	backbone_series(8, parameters=p), backbone_series(8, 'paper', p)) for p in contacts], \
+	'docs/figures/backbone-truncations.png')"
 	for scene in paper_checks/scenes/examples/*.toml; do \
 	  $(PY) -m numerics scene $$scene --quiet --out docs/figures/examples > /dev/null || exit 1; \
 	done

@@ -85,14 +85,18 @@ def scheme_lanes(a0, omega, Omega, c, k_coef, d_coef, order, spring, damping, st
     # j <= damping + 1 (the derivative of (u^(j+1))_m / (j+1) for d_j); j + m = n + 1.
     jtop = max(1, min(max(spring, damping + 1), stop + 1))
 
-    # Tables, once per call: cos(k theta_s), sin(k theta_s) on half a period.
-    cos_t = np.empty((top + 1, half))
-    sin_t = np.empty((top + 1, half))
-    for k in range(top + 1):
-        for s in range(half):
+    # Tables, once per call: cos(k theta_s), sin(k theta_s) on half a period, by phase and
+    # then by harmonic (the Fourier sums run over the phases outside, the harmonics inside).
+    cos_t = np.empty((half, top + 1))
+    sin_t = np.empty((half, top + 1))
+    for s in range(half):
+        for k in range(top + 1):
             phase = k * np.pi * s / half
-            cos_t[k, s] = np.cos(phase)
-            sin_t[k, s] = np.sin(phase)
+            cos_t[s, k] = np.cos(phase)
+            sin_t[s, k] = np.sin(phase)
+    damping_weight = np.zeros(jtop + 1)  # d_(j-1) / j for the derivative of (u^j)_m
+    for j in range(2, min(damping + 1, jtop) + 1):
+        damping_weight[j] = d_coef[j - 1] / j
 
     # Work arrays, once per call; each lane overwrites what it reads.
     powers = np.empty((jtop + 1, stop + 1, half))  # (u^j)_m at the phases; j = 1: u_m
@@ -100,8 +104,10 @@ def scheme_lanes(a0, omega, Omega, c, k_coef, d_coef, order, spring, damping, st
     vel = np.empty(half)  # - sum_j d_(j-1) / j (u^j)_(n+1-j): its derivative is the damping
     z_re = np.zeros((order + 1, top + 1))
     z_im = np.zeros((order + 1, top + 1))
-    f_re = np.zeros(top + 1)
+    f_re = np.zeros(top + 1)  # F_n_k, then the spring part's sums
     f_im = np.zeros(top + 1)
+    g_re = np.zeros(top + 1)  # the damping part's sums, before d/dt
+    g_im = np.zeros(top + 1)
     inv_re = np.zeros(top + 1)  # 1 / (omega^2 - k^2 Omega^2 + 2 i k c Omega)
     inv_im = np.zeros(top + 1)
     b = np.zeros(order + 1)
@@ -120,7 +126,7 @@ def scheme_lanes(a0, omega, Omega, c, k_coef, d_coef, order, spring, damping, st
         z_re[0, 1] = amplitude
         z_im[0, 1] = 0.0
         for s in range(half):
-            powers[1, 0, s] = amplitude * cos_t[1, s]
+            powers[1, 0, s] = amplitude * cos_t[s, 1]
         b_out[0, lane] = 0.0
         if with_z:
             for k in range(top + 1):
@@ -147,25 +153,30 @@ def scheme_lanes(a0, omega, Omega, c, k_coef, d_coef, order, spring, damping, st
                 for s in range(half):
                     rhs[s] -= coefficient * powers[j, n + 1 - j, s]
             for j in range(2, min(damping + 1, n + 1) + 1):  # - d_(j-1) (u^(j-1) u')_(n-j+1)
-                coefficient = d_coef[j - 1] / j
+                coefficient = damping_weight[j]
                 for s in range(half):
                     vel[s] -= coefficient * powers[j, n + 1 - j, s]
 
-            # The harmonics F_n_k of the right side, k = n+1, n-1, ... (the others vanish).
-            for k in range(n + 1, -1, -2):
-                if only_b and k != 1:
-                    continue
-                r_re = r_im = v_re = v_im = 0.0
-                if nonlinear:
-                    for s in range(half):
-                        r_re += rhs[s] * cos_t[k, s]
-                        r_im -= rhs[s] * sin_t[k, s]
-                        v_re += vel[s] * cos_t[k, s]
-                        v_im -= vel[s] * sin_t[k, s]
+            # The harmonics F_n_k of the right side, k = n+1, n-1, ... (the others vanish);
+            # only F_n_1 when the order gives only its b.
+            low = 1 if only_b else (n + 1) % 2
+            high = 1 if only_b else n + 1
+            for k in range(low, high + 1, 2):
+                f_re[k] = f_im[k] = g_re[k] = g_im[k] = 0.0
+            if nonlinear:
+                for s in range(half):
+                    spring_s = rhs[s]
+                    damping_s = vel[s]
+                    for k in range(low, high + 1, 2):
+                        f_re[k] += spring_s * cos_t[s, k]
+                        f_im[k] -= spring_s * sin_t[s, k]
+                        g_re[k] += damping_s * cos_t[s, k]
+                        g_im[k] -= damping_s * sin_t[s, k]
+            for k in range(low, high + 1, 2):
                 weight = (2.0 if k > 0 else 1.0) / half
                 speed = k * drive  # d/dt is i k Omega on harmonic k
-                value_re = weight * (r_re - speed * v_im)
-                value_im = weight * (r_im + speed * v_re)
+                value_re = weight * (f_re[k] - speed * g_im[k])
+                value_im = weight * (f_im[k] + speed * g_re[k])
                 if nonlinear:
                     for p in range(2, n, 2):  # sum_p b_p u_(n-p)
                         value_re += b[p] * z_re[n - p, k]
@@ -200,7 +211,7 @@ def scheme_lanes(a0, omega, Omega, c, k_coef, d_coef, order, spring, damping, st
                     powers[1, n, s] = 0.0
                 for k in range(n + 1, -1, -2):
                     for s in range(half):
-                        powers[1, n, s] += z_re[n, k] * cos_t[k, s] - z_im[n, k] * sin_t[k, s]
+                        powers[1, n, s] += z_re[n, k] * cos_t[s, k] - z_im[n, k] * sin_t[s, k]
 
 
 class KernelSeries(NumericSeries):

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
 from matplotlib.figure import Figure
 
 from ._figure import finish, fixed_layout, new_figure
@@ -12,7 +13,7 @@ from ._figure import finish, fixed_layout, new_figure
 if TYPE_CHECKING:  # the exact backbone imports scipy.optimize: not for every figure
     from .._backbone import Backbone
 
-__all__ = ["plot_backbone"]
+__all__ = ["plot_backbone", "plot_backbone_truncations"]
 
 #: The margins [in] (``fixed_layout``), as constrained layout placed them (2026-11-23):
 #: on the right, room for the last x tick label; the title above; the labels below.
@@ -39,5 +40,45 @@ def plot_backbone(backbone: Backbone, path: str | Path | None = None) -> Figure:
     ax.set_ylabel("frequency of free oscillation [Hz]")
     ax.set_title("Exact backbone of the conservative model")
     ax.legend(loc="lower left")
+    fixed_layout(figure, [[ax]], **_MARGINS_IN)
+    return finish(figure, path)
+
+
+def plot_backbone_truncations(rows, path: str | Path | None = None) -> Figure:
+    """The exact backbone of each contact beside its consistent and Eq. 2.6 series.
+
+    ``rows`` holds ``(backbone, consistent, paper)`` per contact: the exact ``Backbone``
+    and two ``perturb.BackboneSeries`` (``truncation`` "consistent" and "paper") of its
+    model. Each series is drawn at the exact backbone's fundamental amplitudes a1,
+    against its A_pp: the frequency drop f - f_n0, which the paper's truncation gets
+    right only for m2 = 2.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from numerics import exact_backbone
+    >>> from perturb import backbone_series
+    >>> exact = exact_backbone(np.geomspace(1e-9, 1e-7, 20))
+    >>> figure = plot_backbone_truncations([(exact, backbone_series(4),
+    ...                                      backbone_series(4, "paper"))])
+    >>> figure.axes[0].get_ylabel()
+    '$f - f_{n0}$ [Hz]'
+    """
+    figure, ax = new_figure(layout=None)
+    for i, (exact, consistent, paper) in enumerate(rows):
+        color = f"C{i}"
+        m2 = exact.model["parameters"]["m2"]
+        kept = ~np.asarray(exact.contact_lost, dtype=bool)  # the series hold in contact
+        app, a1 = exact.app_m[kept] * 1e9, exact.a1_m[kept]
+        ax.plot(app, exact.frequency_hz[kept] - exact.f_n0_hz, color=color,
+                label=f"$m_2$ = {m2:g}: exact")
+        for series, style, name in ((consistent, "--", "consistent"), (paper, ":", "Eq. 2.6")):
+            ratio = series.frequency_ratio(series.alpha_per_m() * a1)
+            ax.plot(app, exact.f_n0_hz * (ratio - 1), style, color=color,
+                    label=f"$m_2$ = {m2:g}: {name}, order {series.order}")
+    ax.set_xlabel("peak-to-peak amplitude $A_{pp}$ [nm]")
+    ax.set_ylabel("$f - f_{n0}$ [Hz]")
+    ax.set_title("Backbones: exact, consistent series, Eq. 2.6's series")
+    ax.legend(loc="lower left", fontsize="x-small")
     fixed_layout(figure, [[ax]], **_MARGINS_IN)
     return finish(figure, path)

@@ -144,8 +144,10 @@ def _hysteresis(scene, run, out, name):
 
 
 def _backbone(scene, run, out, name):
-    from ..plots import plot_backbone
+    from ..plots import plot_backbone, plot_backbone_truncations
 
+    if len(run.outcomes) == 3:  # the consistent series and Eq. 2.6's beside the exact one
+        return _each(plot_backbone_truncations, [[tuple(run.outcomes)]], out, name)
     return _each(plot_backbone, run.outcomes[:1], out, name)
 
 

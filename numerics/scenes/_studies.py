@@ -117,9 +117,11 @@ def _backbone(scene, model, grid, quiet) -> StudyRun:
     from .._backbone import exact_backbone
 
     exact = exact_backbone(model=model, points=scene.options["points"])
-    series = backbone_series(scene.options["order"], scene.options["truncation"],
-                             model.parameters)
-    return StudyRun([exact, series],
+    order, truncation = scene.options["order"], scene.options["truncation"]
+    series = [backbone_series(order, truncation, model.parameters)]
+    if truncation == "consistent":  # Eq. 2.6's beside it: what the paper's truncation drops
+        series.append(backbone_series(order, "paper", model.parameters))
+    return StudyRun([exact, *series],
                     "the period quadrature of the free oscillation, and the series")
 
 

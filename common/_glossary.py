@@ -78,6 +78,11 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
                     "or under-resolved is solved again with twice the steps", "1", ""),
     "tolerance": ("a relative error bound (validity of a series, parting of two models)", "1",
                   ""),
+    "truncation": ("which terms of the equation in contact a series keeps: consistent (every "
+                   "k_j u^j at eps^(j-1) and d_j u^j u' at eps^j up to its order) or paper "
+                   "(Eq. 2.6: h u^2 and linear damping); absent: paper", "", "Eq. 2.5, 2.6"),
+    "alpha": ("what the backbone series' variable is: a / y0 (consistent) or h a / omega0^2 "
+              "(Eq. 2.6's series)", "", "Eq. 2.7"),
     "elapsed_s": ("wall time of the computation", "s", ""),
     "settings": ("the settings a result was computed with", "", ""),
     "kind": ("JSON only: the class of the result, for `load`; of a bifurcation: fold or "

@@ -162,7 +162,7 @@ def series_stability(response: Response, *, steps_per_period: int = DEFAULTS["st
     --------
     >>> import numpy as np
     >>> from perturb import frequency_response
-    >>> response = frequency_response(np.array([1000.0, 1400.0]), 0.05, 6)
+    >>> response = frequency_response(np.array([1000.0, 1400.0]), 0.05, 6, truncation="paper")
     >>> [b.stable.tolist() for b in series_stability(response).branches]
     [[True, True], [None, False], [None, True]]
     """

@@ -38,7 +38,7 @@ _LAZY = {
     "BackboneSeries": ("._backbone_series", "BackboneSeries"),
     "backbone_series": ("._backbone_series", "backbone_series"),
     "CompiledSeries": ("._compiled", "CompiledSeries"),
-    "compile_series": ("._compiled", "compile_series"),
+    "compile_series": ("._formulas", "compile_series"),
     "derivation_latex": ("._derivation", "derivation_latex"),
     "derivation_text": ("._derivation", "derivation_text"),
     "Eq26": ("._eq26", "Eq26"),

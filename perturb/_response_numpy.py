@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._compiled import CompiledSeries, compile_series
+from ._formulas import SeriesFormulas, compile_series
 from ._response import _RESONANCE_OFFSETS, _match_distance
 from ._truncation import PAPER_TRUNCATION, Truncation, truncation_for
 
@@ -25,7 +25,7 @@ __all__ = ["solve_chunk", "harmonics_in_drive_frame", "sample_waveform", "refine
 _CHUNK = 4096
 
 
-def _residual(formulas: CompiledSeries, values, G, omega, Omega):
+def _residual(formulas: SeriesFormulas, values, G, omega, Omega):
     """omega^2 - omega0^2 - sum b_n, with A0 = G H_1(omega) (Eq. 2.7, 2.8)."""
     out = np.empty(np.broadcast(G, omega, Omega).shape)
     G, omega, Omega = (np.broadcast_to(a, out.shape).ravel() for a in (G, omega, Omega))

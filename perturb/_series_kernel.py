@@ -7,8 +7,9 @@ out the same scheme lane by lane on small work arrays that stay in the cache. Th
 the degrees of the truncation and the coefficients are arguments at run time, so the
 kernel is compiled once (and cached on disk by numba) for every order and truncation.
 
-Per lane, as ``NumericSeries`` (``_lindstedt._right_side``), with three shortcuts that
-change nothing but the rounding:
+Per lane, the right side of order n of the equation in contact (Eq. 2.5 carried on to
+every power, ``_truncation``) is built as ``NumericSeries`` builds it, with three
+shortcuts that change nothing but the rounding:
 
 - u_n is sampled at the phases theta_s = pi s / H, s = 0..H-1, of half a period only:
   u_n holds the harmonics k = n+1, n-1, ... (Eq. 2.9, A.1), all of one parity, so
@@ -46,12 +47,17 @@ from ._truncation import Truncation
 __all__ = ["KernelSeries", "kernel_series", "scheme_lanes"]
 
 _JIT = {"cache": True, "error_model": "numpy"}  # numpy's rules: x / 0 is inf, no exception
+_CHUNK = 4096  # lanes per kernel call in ``KernelSeries.evaluate`` (buffers of 3-6 MB)
 
 
 @numba.njit(**_JIT)
 def scheme_lanes(a0, omega, Omega, c, k_coef, d_coef, order, spring, damping, stop_order,
                  b_out, z_re_out, z_im_out):
     """The Lindstedt scheme of orders 1..``stop_order`` for every lane.
+
+    Every size (order, degrees) is an argument, so one compilation serves every order
+    and truncation; the work arrays are allocated once per call and each lane runs in
+    them (lanes in the outer loop: a lane's samples and harmonics stay in the cache).
 
     Parameters
     ----------
@@ -85,18 +91,14 @@ def scheme_lanes(a0, omega, Omega, c, k_coef, d_coef, order, spring, damping, st
     # j <= damping + 1 (the derivative of (u^(j+1))_m / (j+1) for d_j); j + m = n + 1.
     jtop = max(1, min(max(spring, damping + 1), stop + 1))
 
-    # Tables, once per call: cos(k theta_s), sin(k theta_s) on half a period, by phase and
-    # then by harmonic (the Fourier sums run over the phases outside, the harmonics inside).
-    cos_t = np.empty((half, top + 1))
-    sin_t = np.empty((half, top + 1))
-    for s in range(half):
-        for k in range(top + 1):
+    # Tables, once per call: cos(k theta_s), sin(k theta_s) on half a period.
+    cos_t = np.empty((top + 1, half))
+    sin_t = np.empty((top + 1, half))
+    for k in range(top + 1):
+        for s in range(half):
             phase = k * np.pi * s / half
-            cos_t[s, k] = np.cos(phase)
-            sin_t[s, k] = np.sin(phase)
-    damping_weight = np.zeros(jtop + 1)  # d_(j-1) / j for the derivative of (u^j)_m
-    for j in range(2, min(damping + 1, jtop) + 1):
-        damping_weight[j] = d_coef[j - 1] / j
+            cos_t[k, s] = np.cos(phase)
+            sin_t[k, s] = np.sin(phase)
 
     # Work arrays, once per call; each lane overwrites what it reads.
     powers = np.empty((jtop + 1, stop + 1, half))  # (u^j)_m at the phases; j = 1: u_m
@@ -104,13 +106,14 @@ def scheme_lanes(a0, omega, Omega, c, k_coef, d_coef, order, spring, damping, st
     vel = np.empty(half)  # - sum_j d_(j-1) / j (u^j)_(n+1-j): its derivative is the damping
     z_re = np.zeros((order + 1, top + 1))
     z_im = np.zeros((order + 1, top + 1))
-    f_re = np.zeros(top + 1)  # F_n_k, then the spring part's sums
+    f_re = np.zeros(top + 1)
     f_im = np.zeros(top + 1)
-    g_re = np.zeros(top + 1)  # the damping part's sums, before d/dt
-    g_im = np.zeros(top + 1)
     inv_re = np.zeros(top + 1)  # 1 / (omega^2 - k^2 Omega^2 + 2 i k c Omega)
     inv_im = np.zeros(top + 1)
     b = np.zeros(order + 1)
+    damping_weight = np.zeros(jtop + 1)  # d_(j-1) / j, for the derivative of (u^j)_m
+    for j in range(2, min(damping + 1, jtop) + 1):
+        damping_weight[j] = d_coef[j - 1] / j
 
     for lane in range(lanes):
         amplitude = a0[lane]
@@ -126,7 +129,7 @@ def scheme_lanes(a0, omega, Omega, c, k_coef, d_coef, order, spring, damping, st
         z_re[0, 1] = amplitude
         z_im[0, 1] = 0.0
         for s in range(half):
-            powers[1, 0, s] = amplitude * cos_t[s, 1]
+            powers[1, 0, s] = amplitude * cos_t[1, s]
         b_out[0, lane] = 0.0
         if with_z:
             for k in range(top + 1):
@@ -157,26 +160,27 @@ def scheme_lanes(a0, omega, Omega, c, k_coef, d_coef, order, spring, damping, st
                 for s in range(half):
                     vel[s] -= coefficient * powers[j, n + 1 - j, s]
 
-            # The harmonics F_n_k of the right side, k = n+1, n-1, ... (the others vanish);
-            # only F_n_1 when the order gives only its b.
-            low = 1 if only_b else (n + 1) % 2
-            high = 1 if only_b else n + 1
-            for k in range(low, high + 1, 2):
-                f_re[k] = f_im[k] = g_re[k] = g_im[k] = 0.0
-            if nonlinear:
-                for s in range(half):
-                    spring_s = rhs[s]
-                    damping_s = vel[s]
-                    for k in range(low, high + 1, 2):
-                        f_re[k] += spring_s * cos_t[s, k]
-                        f_im[k] -= spring_s * sin_t[s, k]
-                        g_re[k] += damping_s * cos_t[s, k]
-                        g_im[k] -= damping_s * sin_t[s, k]
-            for k in range(low, high + 1, 2):
+            # The harmonics F_n_k of the right side, k = n+1, n-1, ... (the others vanish).
+            for k in range(n + 1, -1, -2):
+                if only_b and k != 1:
+                    continue
+                r_re = r_im = v_re = v_im = 0.0
+                # The sums run over the phases inside: measured faster than over the
+                # harmonics inside (the harmonics are few, and every other one is 0).
+                if damping >= 1:
+                    for s in range(half):
+                        r_re += rhs[s] * cos_t[k, s]
+                        r_im -= rhs[s] * sin_t[k, s]
+                        v_re += vel[s] * cos_t[k, s]
+                        v_im -= vel[s] * sin_t[k, s]
+                elif spring >= 2:
+                    for s in range(half):
+                        r_re += rhs[s] * cos_t[k, s]
+                        r_im -= rhs[s] * sin_t[k, s]
                 weight = (2.0 if k > 0 else 1.0) / half
                 speed = k * drive  # d/dt is i k Omega on harmonic k
-                value_re = weight * (f_re[k] - speed * g_im[k])
-                value_im = weight * (f_im[k] + speed * g_re[k])
+                value_re = weight * (r_re - speed * v_im)
+                value_im = weight * (r_im + speed * v_re)
                 if nonlinear:
                     for p in range(2, n, 2):  # sum_p b_p u_(n-p)
                         value_re += b[p] * z_re[n - p, k]
@@ -193,7 +197,8 @@ def scheme_lanes(a0, omega, Omega, c, k_coef, d_coef, order, spring, damping, st
             if only_b:
                 break
 
-            # The transfer of each harmonic, and the mean: omega^2 A_n_0 = F_n_0.
+            # Eq. 2.9, A.1: each harmonic through its transfer (``_compiled.complex_chain``),
+            # and the mean: omega^2 A_n_0 = F_n_0.
             for k in range(n + 1, -1, -2):
                 if k == 0:
                     z_re[n, 0] = f_re[0] / w2
@@ -211,7 +216,7 @@ def scheme_lanes(a0, omega, Omega, c, k_coef, d_coef, order, spring, damping, st
                     powers[1, n, s] = 0.0
                 for k in range(n + 1, -1, -2):
                     for s in range(half):
-                        powers[1, n, s] += z_re[n, k] * cos_t[s, k] - z_im[n, k] * sin_t[s, k]
+                        powers[1, n, s] += z_re[n, k] * cos_t[k, s] - z_im[n, k] * sin_t[k, s]
 
 
 class KernelSeries(NumericSeries):
@@ -250,20 +255,36 @@ class KernelSeries(NumericSeries):
             return super().evaluate(A0, omega, Omega, c, *coefficients, until=until)
         shape, a0, w, W, damping_c, k_coef, d_coef = lanes
         stop = self._stop_order(until)
-        b_out = np.empty((self.order + 1, a0.size))
-        z_re = np.empty((self.order + 1, self.order + 2, a0.size))
-        z_im = np.empty_like(z_re)
-        scheme_lanes(a0, w, W, damping_c, k_coef, d_coef, self.order, self.spring,
-                     self.damping, stop, b_out, z_re, z_im)
+        size, rows, columns = a0.size, self.order + 1, self.order + 2
+        b_out = np.empty((rows, size))
+        held = [(n, k) for n in range(1, stop + 1) for k in range(n + 1, -1, -2)]
+        values = {(n, k): np.empty(size, dtype=complex if k else float) for n, k in held}
+        # A chunk of lanes at a time, in buffers that are reused: (N+1, N+2, L) buffers for
+        # all lanes at once cost about as much in page faults as the kernel spends on them.
+        chunk = max(1, min(size, _CHUNK))
+        b_part, z_re, z_im = np.empty((rows, chunk)), *np.empty((2, rows, columns, chunk))
+        for start in range(0, size, chunk):
+            part = slice(start, min(start + chunk, size))
+            if part.stop - part.start < chunk:  # the kernel writes as many lanes as it gets
+                chunk = part.stop - part.start
+                b_part, z_re, z_im = np.empty((rows, chunk)), *np.empty((2, rows, columns,
+                                                                          chunk))
+            scheme_lanes(a0[part], w[part], W[part], damping_c[part], k_coef, d_coef,
+                         self.order, self.spring, self.damping, stop, b_part, z_re, z_im)
+            b_out[:, part] = b_part
+            for (n, k), value in values.items():
+                if k == 0:
+                    value[part] = z_re[n, 0]
+                else:
+                    value.real[part] = z_re[n, k]
+                    value.imag[part] = z_im[n, k]
         env: dict[str, np.ndarray] = {"A0": a0}  # flat, as NumericSeries leaves it
         for n in range(1, stop + 1):
             if n in self.b_orders:
                 env[f"b_{n}"] = b_out[n].reshape(shape)
             for k in range(n + 1, -1, -2):
-                if k == 0:  # copies: the env keeps no view of the (N+1, N+2, L) buffers
-                    env[f"A_{n}_0"] = z_re[n, 0].reshape(shape).copy()
-                else:
-                    env[f"z_{n}_{k}"] = (z_re[n, k] + 1j * z_im[n, k]).reshape(shape)
+                name = f"A_{n}_0" if k == 0 else f"z_{n}_{k}"
+                env[name] = values[(n, k)].reshape(shape)
         env["z_0_1"] = env["A_0_1"] = a0.reshape(shape)
         return env
 
@@ -292,10 +313,11 @@ class KernelSeries(NumericSeries):
         constants = [_constant(x) for x in values]
         if any(x is None for x in constants):
             return None
-        arrays = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (A0, omega, Omega, c)),
-                                     *values)
-        shape = arrays[0].shape
-        flat = [np.ascontiguousarray(a.reshape(-1)) for a in arrays[:4]]
+        arrays = [np.asarray(a, dtype=float) for a in (A0, omega, Omega, c)]
+        shape = np.broadcast_shapes(*(a.shape for a in arrays), *(x.shape for x in values))
+        # C-contiguous and writeable, always: numba compiles again for a read-only array.
+        flat = [np.require((a if a.shape == shape else np.broadcast_to(a, shape)).reshape(-1),
+                           np.float64, ("C", "W")) for a in arrays]
         k_coef = np.zeros(max(self.spring, 2) + 1)  # h is an argument even at order 0
         d_coef = np.zeros(self.damping + 1)
         for (kind, j), value in zip(self.coefficients, constants):
@@ -304,7 +326,7 @@ class KernelSeries(NumericSeries):
 
     def _stop_order(self, until: str | None) -> int:
         """The order after which ``NumericSeries.evaluate`` stops for ``until``: the first
-        whose names (or those before it, or "A0") include it; else the last."""
+        that assigns it (order 1 for "A0", which is assigned before any); else the last."""
         if until is None:
             return self.order
         for n in range(1, self.order + 1):

@@ -31,7 +31,7 @@ from functools import lru_cache
 import numpy as np
 import numpy.typing as npt
 
-from ._compiled import SeriesFormulas
+from ._formulas import SeriesFormulas
 from ._truncation import Truncation
 
 __all__ = ["NumericSeries", "numeric_series"]
@@ -114,7 +114,7 @@ class NumericSeries(SeriesFormulas):
                 rhs -= k_of[("k", j)][:, None] * power(j, n - j + 1)
             for j in range(1, min(self.damping, n) + 1):  # - d_j (u^j u')_(n-j)
                 rhs -= k_of[("d", j)][:, None] * with_velocity(j, n - j)
-            forcing = rhs @ self._analysis  # harmonics k = 0..N+1, as z_n_k
+            forcing = _products(rhs, self._analysis)  # harmonics k = 0..N+1, as z_n_k
             forcing[:, (n + 1 - harmonics) % 2 == 1] = 0  # u_n holds k = n+1, n-1, ...
             if n in self.b_orders:
                 # Eq. 2.10, A.2: b_n A0 cancels the fundamental's part in phase with u0.
@@ -138,11 +138,21 @@ class NumericSeries(SeriesFormulas):
 
     def _samples(self, z: np.ndarray) -> np.ndarray:
         """u = sum_k Re(z_k exp(i k theta)) at the S phases theta (lanes, S)."""
-        return (z @ self._basis).real
+        return _products(z, self._basis).real
 
     def __repr__(self) -> str:
         return (f"NumericSeries(order={self.order}, truncation={self.truncation.name!r}, "
                 f"coefficients={self.arguments[4:]})")
+
+
+def _products(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a @ b summed term by term in a fixed order: every lane's value is the same
+    whatever the lanes beside it (a matrix product's blocking follows the batch's
+    size, and a frequency band solved in chunks must equal the band solved at once)."""
+    out = a[:, :1] * b[:1]
+    for i in range(1, a.shape[1]):
+        out = out + a[:, i:i + 1] * b[i:i + 1]
+    return out
 
 
 @lru_cache(maxsize=None)

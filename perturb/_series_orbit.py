@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._compiled import compile_series
+from ._formulas import compile_series
 from ._parameters import PAPER, ContactParameters
 from ._response import Branch
 from ._response_numpy import harmonics_in_drive_frame, refined_at, sample_waveform

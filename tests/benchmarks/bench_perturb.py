@@ -41,6 +41,8 @@ from numerics import simulate
 from perturb import (
     EQ_2_6,
     ContactModel,
+    _compiled,
+    _lindstedt,
     backbone_series,
     compile_series,
     derive,
@@ -48,7 +50,6 @@ from perturb import (
     frequency_response,
     series_json,
 )
-from perturb import _compiled, _lindstedt
 from perturb._backbone_series import _exact_series
 
 from .._response_reference import reference_response

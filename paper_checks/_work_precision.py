@@ -49,7 +49,7 @@ from common import jsonable
 from numerics import steady_states
 from numerics.scenes import Option, Study, StudyRun, register_study
 from perturb import EQ_2_6, PAPER, ContactModel, compile_series, frequency_response
-from perturb._compiled import formulas_cached
+from perturb._compiled import formulas_cached, lambdified_series
 
 __all__ = ["WorkPrecision", "work_precision", "scene_methods", "RK4_POINTS", "SERIES_POINTS"]
 
@@ -176,6 +176,7 @@ def _compile_orders(highest: int) -> tuple[list[float], list[bool]]:
     ``compile_series`` is emptied first (another scene may have filled it in this
     worker), so that each is a first call."""
     compile_series.cache_clear()
+    lambdified_series.cache_clear()  # where compile_series keeps Eq. 2.6's formulas
     seconds, cached = [], []
     for order in range(highest + 1):
         cached.append(formulas_cached(order))

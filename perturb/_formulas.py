@@ -82,7 +82,8 @@ class SeriesFormulas:
 
 @lru_cache(maxsize=None)
 def compile_series(order: int, truncation: str | Truncation = "consistent",
-                   parameters: ContactParameters = PAPER) -> SeriesFormulas:
+                   parameters: ContactParameters = PAPER, *,
+                   compiled: bool = True) -> SeriesFormulas:
     """The order-N series as fast numeric formulas (cached, in this process and on disk).
 
     Parameters
@@ -93,14 +94,19 @@ def compile_series(order: int, truncation: str | Truncation = "consistent",
         Which terms of the equation in contact the series keeps (``derive``).
     parameters : ContactParameters
         The contact, which tells where its laws' Taylor series end.
+    compiled : bool
+        For a series other than Eq. 2.6's: the scheme as one numba kernel
+        (``KernelSeries``: compiled once for every order and truncation, some 5 s the
+        first time, then cached on disk) or in numpy (``NumericSeries``: no compiling,
+        some 30x slower).
 
     Returns
     -------
-    CompiledSeries or NumericSeries
+    CompiledSeries, KernelSeries or NumericSeries
         Eq. 2.6's series (the paper's truncation, or a consistent one that keeps the
         same terms) as its closed forms lambdified (``CompiledSeries``); any other as
-        the same scheme carried out on numbers (``NumericSeries``), whose closed forms
-        grow too fast to compile. Both take ``(A0, omega, Omega, c, *coefficients)``.
+        the same scheme carried out on numbers, whose closed forms grow too fast to
+        compile. All take ``(A0, omega, Omega, c, *coefficients)``.
     """
     order = check_int("order", order, minimum=0)
     resolved = truncation_for(truncation, parameters)
@@ -109,6 +115,11 @@ def compile_series(order: int, truncation: str | Truncation = "consistent",
         from ._compiled import lambdified_series  # sympy's lambdify, or its cache on disk
 
         return lambdified_series(order)
+    kept = Truncation(resolved.name, *degrees)
+    if compiled:
+        from ._series_kernel import kernel_series  # numba, and SeriesFormulas from here
+
+        return kernel_series(order, kept)
     from ._series_numeric import numeric_series  # here: it imports SeriesFormulas from here
 
-    return numeric_series(order, Truncation(resolved.name, *degrees))
+    return numeric_series(order, kept)

@@ -340,8 +340,10 @@ def frequency_response(
         10-20 s; then some 10x faster than numpy); "numpy": the residual grid in
         numpy (no build); "auto": compiled where the order's kernels are built,
         numpy otherwise. Both give the same branches, roots (within 1e-13) and
-        validity. The compiled kernels are those of Eq. 2.6: a series that keeps
-        more of the equation in contact takes the numpy route (``NumericSeries``).
+        validity. A series that keeps more of the equation in contact than Eq. 2.6
+        has the numpy route's root search, its formulas the scheme compiled once for
+        every order ("compiled", "auto": ``KernelSeries``) or in numpy ("numpy":
+        ``NumericSeries``).
     truncation : {"consistent", "paper"}
         "consistent": every term k_j u^j and d_j u^j u' of the contact's equation up
         to eps^N (``derive``); "paper": Eq. 2.6 (h and linear damping). The error
@@ -411,21 +413,20 @@ ENGINES = ("auto", "compiled", "numpy")
 
 
 def _chunk_solver(engine: str, order: int, truncation: Truncation):
-    """The chunk solver of ``engine``: "auto" takes the compiled kernels only where the
-    order's are built already (building them costs 10-20 s once; numpy needs none).
-    The compiled kernels are Eq. 2.6's: any other truncation is solved in numpy."""
+    """The chunk solver of ``engine``. Eq. 2.6's series: "auto" takes the compiled
+    kernels only where the order's are built already (building them costs 10-20 s once;
+    numpy needs none). Any other series is solved by the numpy route, its formulas the
+    scheme's numba kernel ("compiled", "auto": compiled once for every order and
+    truncation) or the scheme in numpy ("numpy")."""
     eq26 = truncation.at_order(order + 2) == PAPER_TRUNCATION.at_order(order + 2)
-    if engine == "compiled" and not eq26:
-        raise ValueError(
-            "`engine='compiled'` has kernels for Eq. 2.6's series only (truncation='paper'); "
-            f"the {truncation.name!r} series of this contact is solved by engine='numpy' or "
-            "'auto'.")
-    if engine == "auto":
-        engine = "compiled" if eq26 and series_kernels_built(order) else "numpy"
-    if engine == "compiled":
-        return partial(_solve_chunk, truncation=truncation)
     from ._response_numpy import solve_chunk
 
+    if not eq26:
+        return partial(solve_chunk, truncation=truncation, compiled=engine != "numpy")
+    if engine == "auto":
+        engine = "compiled" if series_kernels_built(order) else "numpy"
+    if engine == "compiled":
+        return partial(_solve_chunk, truncation=truncation)
     return partial(solve_chunk, truncation=truncation)
 
 
@@ -455,7 +456,7 @@ def _model_distance(order, values, G, Omega, rows, base: _Roots, app, samples) -
     """``_response_numpy.model_distance`` of the compiled roots (their waveforms sampled)."""
     from ._response_numpy import model_distance, sample_waveform
 
-    k = np.arange(base.real.shape[1])
+    k = np.arange(base.real.shape[1])  # (model_distance: the consistent series compiled)
     per_harmonic = (base.real[0] + 1j * base.imag[0]).T * np.exp(1j * np.outer(base.lag, k))
     u = sample_waveform(per_harmonic, samples)
     return model_distance(order, values, G, Omega, rows, base.omega, u, app)

@@ -220,7 +220,8 @@ def _nearby_root(formulas, values, G, Omega, start, distance, iterations=30):
 
 
 def truncation_error(order, values, G, Omega, rows, roots, base, app,
-                     truncation: Truncation = PAPER_TRUNCATION) -> np.ndarray:
+                     truncation: Truncation = PAPER_TRUNCATION, compiled: bool = True
+                     ) -> np.ndarray:
     """An a-posteriori estimate of the relative error of the order-N response.
 
     max over k = 1, 2 of pp(u_(N+k) - u_N) / App_N, where u_M is the
@@ -239,11 +240,11 @@ def truncation_error(order, values, G, Omega, rows, roots, base, app,
     """
     Omega_r, G_r = Omega[rows], np.full(rows.size, G)
     distance = _match_distance(rows, roots, values.c_per_s)
-    solved = {compile_series(order, truncation).b_orders:
+    solved = {compile_series(order, truncation, compiled=compiled).b_orders:
               (roots, np.ones(roots.size, dtype=bool))}
     error = np.zeros(roots.size)
     for k in (1, 2):
-        formulas = compile_series(order + k, truncation)
+        formulas = compile_series(order + k, truncation, compiled=compiled)
         if formulas.b_orders not in solved:
             solved[formulas.b_orders] = _nearby_root(
                 formulas, values, G_r, Omega_r, roots, distance
@@ -263,7 +264,8 @@ def _waveform_distance(formulas, values, G, Omega_r, omega, base, app) -> np.nda
         return (change.max(axis=1) - change.min(axis=1)) / app
 
 
-def model_distance(order, values, G, Omega, rows, roots, base, app) -> np.ndarray:
+def model_distance(order, values, G, Omega, rows, roots, base, app,
+                   compiled: bool = True) -> np.ndarray:
     """How far the order-N series of Eq. 2.6 is from the contact's own equation:
     pp(u_C - u_N) / App_N, u_C the consistent series of order N+2 on its root nearest to
     the order-N root (NaN where none lies within ``_match_distance``), ``base`` u_N
@@ -276,7 +278,7 @@ def model_distance(order, values, G, Omega, rows, roots, base, app) -> np.ndarra
     if (truncation.at_order(order + 2) == PAPER_TRUNCATION.at_order(order + 2)
             or (values.parameters.m2, values.parameters.l) == (2.0, 1.0)):
         return np.zeros(roots.size)
-    formulas = compile_series(order + 2, truncation)
+    formulas = compile_series(order + 2, truncation, compiled=compiled)
     Omega_r, G_r = Omega[rows], np.full(rows.size, G)
     distance = _match_distance(rows, roots, values.c_per_s)
     omega, matched = _nearby_root(formulas, values, G_r, Omega_r, roots, distance)
@@ -285,21 +287,23 @@ def model_distance(order, values, G, Omega, rows, roots, base, app) -> np.ndarra
 
 
 def solve_chunk(values, G, Omega, order, omega_range, grid_points, samples, tolerance,
-                offset: int, truncation: Truncation = PAPER_TRUNCATION
-                ) -> tuple[np.ndarray, ...]:
+                offset: int, truncation: Truncation = PAPER_TRUNCATION,
+                compiled: bool = False) -> tuple[np.ndarray, ...]:
     """Every root of the frequencies ``Omega``, with App, extrema, validity and error;
     rows count from ``offset`` (as ``_response._solve_chunk``, in numpy). The error of
     the paper's truncation includes its distance to the contact's equation
-    (``model_distance``)."""
-    formulas = compile_series(order, truncation)
+    (``model_distance``). ``compiled``: a series other than Eq. 2.6's by its numba
+    kernel (``KernelSeries``), not in numpy."""
+    formulas = compile_series(order, truncation, compiled=compiled)
     rows, roots = _roots(formulas, values, G, Omega, order, omega_range, grid_points)
     a0 = G / np.hypot(roots**2 - Omega[rows] ** 2, 2 * values.c_per_s * Omega[rows])
     u = _waveform(formulas, values, a0, roots, Omega[rows], samples)  # order N, once
     u_max, u_min = _extrema(u)
     error = truncation_error(order, values, G, Omega, rows, roots, u, u_max - u_min,
-                             truncation)
+                             truncation, compiled)
     if truncation.name == "paper":
-        distance = model_distance(order, values, G, Omega, rows, roots, u, u_max - u_min)
+        distance = model_distance(order, values, G, Omega, rows, roots, u, u_max - u_min,
+                                  compiled)
         error = np.maximum(error, distance)
     valid = (values.y0_m + u_min > 0) & (error < tolerance)
     return rows + offset, roots, a0, u_min, u_max, valid, error

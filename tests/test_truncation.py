@@ -124,7 +124,8 @@ def test_numeric_scheme_equals_the_closed_forms(parameters, name):
 
 def test_compile_series_routes():
     assert type(compile_series(4, "paper")).__name__ == "CompiledSeries"
-    assert type(compile_series(4)).__name__ == "NumericSeries"  # the paper's contact: d_1
+    assert type(compile_series(4)).__name__ == "KernelSeries"  # the paper's contact: d_1
+    assert type(compile_series(4, compiled=False)).__name__ == "NumericSeries"
     assert compile_series(4, "consistent", contact(2.0, 0.0)) is compile_series(4, "paper")
 
 
@@ -238,9 +239,17 @@ def test_bad_truncation_names_the_argument():
             call()
 
 
-def test_compiled_engine_refuses_a_series_it_has_no_kernels_for():
-    with pytest.raises(ValueError, match="engine='compiled'"):
-        frequency_response([1000.0], 0.05, 2, engine="compiled")
+def test_the_engines_of_a_consistent_response_agree():
+    """The scheme's numba kernel and the scheme in numpy: the same roots and flags."""
+    parameters = contact(1.5, 0.5)
+    frequency = np.linspace(1200.0, 1320.0, 13)
+    fast, slow = (frequency_response(frequency, 0.04, 6, parameters=parameters, engine=e)
+                  for e in ("compiled", "numpy"))
+    assert len(fast.branches) == len(slow.branches)
+    for a, b in zip(fast.branches, slow.branches):
+        np.testing.assert_allclose(a.omega_rad_s, b.omega_rad_s, rtol=1e-12)
+        np.testing.assert_allclose(a.app_m, b.app_m, rtol=1e-9)
+        assert np.array_equal(a.valid, b.valid)
 
 
 def test_derivation_study_refuses_a_consistent_series():

@@ -153,13 +153,16 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
               "not a statement of stability (a valid root can be an unstable orbit)", "",
               ""),
     "error_estimate": ("estimated relative error of A_pp from the next two orders of the "
-                       "series (null: no root of those orders nearby, no estimate)", "1", ""),
+                       "series and, for Eq. 2.6's series off the paper's contact, its "
+                       "distance to the consistent series (null: no root of those orders "
+                       "nearby, no estimate)", "1", ""),
     "amplitude": ("what the amplitude a of the backbone series is: first-harmonic, the "
                   "amplitude of the fundamental", "", "Eq. 2.7"),
-    "coefficients": ("exact coefficients c_k of omega/omega0 = sum_k c_k alpha^k, alpha = "
-                     "h a / omega0^2; JSON: strings such as \"-5/12\"", "1", ""),
+    "coefficients": ("exact coefficients c_k of omega/omega0 = sum_k c_k alpha^k (alpha: "
+                     "see alpha); JSON: strings such as \"-5/12\". In a derived series' "
+                     "JSON: each k_j, d_j it keeps, in closed form", "1", ""),
     "waveform": ("cosine coefficients of x_1 .. x_(N+1) of the backbone series, "
-                 "x = h u / omega0^2; JSON: strings", "1", ""),
+                 "x = alpha u / a; JSON: strings", "1", ""),
     "omega_range": ("(lo, hi): where the roots omega are sought, in units of omega0", "1",
                     ""),
     "grid_points": ("uniform grid points in omega_range before refining the roots", "1", ""),

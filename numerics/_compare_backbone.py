@@ -1,12 +1,13 @@
 """The backbone series of every order against the exact backbone.
 
-``perturb.backbone_series(N)`` gives omega/omega0 of Eq. 2.6's free oscillation
-as a power series in alpha = h a1 / omega0^2 (Eq. 2.7), a1 the amplitude of the
-fundamental. The exact backbone of the full model (``exact_backbone``) reports
-a1 too, so each order is compared at the same a1, up to and past contact loss.
+``perturb.backbone_series(N, truncation)`` gives omega/omega0 of the free oscillation
+as a power series in alpha (a1 / y0 for the contact's own spring, h a1 / omega0^2 for
+Eq. 2.6's, Eq. 2.7), a1 the amplitude of the fundamental. The exact backbone of the
+full model (``exact_backbone``) reports a1 too, so each order is compared at the same
+a1, up to and past contact loss.
 
 Each order's range is capped at contact loss: past it the slider flies, which
-the series of Eq. 2.6 knows nothing of, and orders 4 and 6 come back within
+the series knows nothing of, and orders 4 and 6 come back within
 1 % there (at 540 and 498 nm) only because their error changes sign.
 """
 

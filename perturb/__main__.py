@@ -113,7 +113,7 @@ def _backbone(args: argparse.Namespace) -> None:
     print(series)
     if args.app_m:
         for app, f in zip(args.app_m, frequency):
-            shown = f"{f:.6f} Hz" if np.isfinite(f) else "past the series' largest App"
+            shown = f"{f:.6f} Hz" if np.isfinite(f) else "no series orbit in contact has it"
             print(f"  App {app:.6g} m: {shown}")
 
 

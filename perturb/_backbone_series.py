@@ -1,4 +1,4 @@
-"""The backbone of Eq. 2.6: the free, undamped frequency as a series in amplitude.
+"""The backbone: the free, undamped frequency as a series in amplitude.
 
 Without damping and forcing, Eq. 2.6 is ``u'' + omega0^2 u + h u^2 = 0``. With
 ``x = h u / omega0^2``, ``tau = omega t`` and ``W = (omega / omega0)^2`` it reads
@@ -15,6 +15,13 @@ and w_{n-1} removes the secular cos(tau) on the right. Each x_n is a cosine
 polynomial held as an array of exact ``Fraction`` coefficients, which is much
 faster than general symbolic simplification. Finally
 ``omega / omega0 = sqrt(W) = 1 - (5/12) alpha^2 + ...`` (Nayfeh and Mook).
+
+The contact's own spring (the consistent truncation) is the same recursion with every
+Taylor term: in ``x = u / y0`` the power law with its weight reads
+``W x'' + sum_j kappa_j x^j = 0``, ``kappa_j = binom(m2, j) / m2`` (``kappa_1 = 1``),
+and ``-sum_{j>=2} kappa_j (x^j)_n`` replaces ``-sum x_i x_j``: coefficients that are
+polynomials in m2 (exact rationals at a rational m2), with alpha = a / y0. At m2 = 2,
+kappa_2 = 1/2 and no more: Eq. 2.6's coefficients over 2^k.
 
 Examples
 --------
@@ -189,31 +196,48 @@ class BackboneSeries(Result):
             return 1.0 / self.model["y0_m"]
         return self.model["h_per_m_s2"] / self.model["omega0_rad_s"] ** 2
 
-    def peak_to_peak_m(self, alpha: float) -> float:
-        """App = max u - min u of the series orbit x = sum_n alpha^n x_n at ``alpha`` [m]."""
+    def extremes_m(self, alpha: float) -> tuple[float, float]:
+        """(max u, min u) of the series orbit x = sum_n alpha^n x_n at ``alpha`` [m]."""
         tau = np.linspace(0.0, np.pi, 2049)  # x is even in tau: half a period holds both
         top = max(len(x) for x in self.waveform)
         table = np.cos(np.outer(np.arange(top), tau))
         x = sum(alpha ** (n + 1) * (np.array([float(q) for q in xn]) @ table[:len(xn)])
                 for n, xn in enumerate(self.waveform) if xn)
-        return float(x.max() - x.min()) / self.alpha_per_m()
+        return float(x.max()) / self.alpha_per_m(), float(x.min()) / self.alpha_per_m()
+
+    def peak_to_peak_m(self, alpha: float) -> float:
+        """App = max u - min u of the series orbit at ``alpha`` [m]."""
+        top, bottom = self.extremes_m(alpha)
+        return top - bottom
 
     def frequency_at_app_hz(self, app_m) -> np.ndarray:
         """The series backbone's frequency [Hz] at peak-to-peak amplitudes ``app_m`` [m]
-        (App of the series orbit; NaN past the amplitude where App stops growing)."""
+        (App of the series orbit). NaN where the series orbit loses contact
+        (y0 + min u <= 0, Eq. 2.1: the free oscillation there is not the law's) or past
+        the amplitude where its App stops growing.
+
+        Examples
+        --------
+        >>> series = backbone_series(8)
+        >>> [round(float(f), 2) for f in series.frequency_at_app_hz([1e-7, 1e-6])]
+        [1477.9, nan]
+        """
         from scipy.optimize import brentq
 
         app_m = np.atleast_1d(np.asarray(app_m, dtype=float))
         alphas = np.linspace(0.0, 2.0, 401)[1:]
-        apps = np.array([self.peak_to_peak_m(a) for a in alphas])
-        rising = np.flatnonzero(np.diff(apps) <= 0)
-        top = rising[0] + 1 if rising.size else alphas.size  # where App stops growing
+        extremes = np.array([self.extremes_m(a) for a in alphas])
+        apps = extremes[:, 0] - extremes[:, 1]
+        # The last alpha before App stops growing or the orbit leaves the contact.
+        stop = (np.diff(apps) <= 0) | (self.model["y0_m"] + extremes[1:, 1] <= 0)
+        top = int(np.argmax(stop)) + 1 if stop.any() else alphas.size
         out = np.full(app_m.shape, np.nan)
         for i, target in enumerate(app_m):
             if 0 < target <= apps[top - 1]:
                 alpha = brentq(lambda a, app=target: self.peak_to_peak_m(a) - app, 0.0,
                                alphas[top - 1], xtol=1e-15, rtol=1e-13)
-                out[i] = self.model["f_n0_hz"] * self.frequency_ratio(alpha)
+                if self.model["y0_m"] + self.extremes_m(alpha)[1] > 0:
+                    out[i] = self.model["f_n0_hz"] * self.frequency_ratio(alpha)
             elif target == 0:
                 out[i] = self.model["f_n0_hz"]
         return out
@@ -280,8 +304,11 @@ def power_law_backbone_coefficients(order: int):
 
 
 def _exact_m2(m2: float) -> Fraction:
-    """m2 as an exact rational (1.5 -> 3/2; a float's shortest decimal otherwise)."""
-    return Fraction(repr(float(m2)))
+    """m2 as an exact rational: 1.5 -> 3/2, and 4/3 as a float -> 4/3 (the nearest
+    fraction with a denominator up to 1000, where it is within 1e-12); a float's
+    shortest decimal otherwise."""
+    near = Fraction(m2).limit_denominator(1000)
+    return near if abs(near - Fraction(m2)) <= 1e-12 * abs(m2) else Fraction(repr(float(m2)))
 
 
 def backbone_series(order: int, truncation: str = "consistent",

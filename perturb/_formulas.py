@@ -17,7 +17,7 @@ import numpy.typing as npt
 from common import check_int
 
 from ._parameters import PAPER, ContactParameters
-from ._truncation import PAPER_TRUNCATION, Truncation, truncation_for
+from ._truncation import Truncation, truncation_for
 
 __all__ = ["SeriesFormulas", "compile_series"]
 
@@ -80,7 +80,6 @@ class SeriesFormulas:
         return np.tensordot(per_harmonic, basis, axes=1).real
 
 
-@lru_cache(maxsize=None)
 def compile_series(order: int, truncation: str | Truncation = "consistent",
                    parameters: ContactParameters = PAPER, *,
                    compiled: bool = True) -> SeriesFormulas:
@@ -96,9 +95,9 @@ def compile_series(order: int, truncation: str | Truncation = "consistent",
         The contact, which tells where its laws' Taylor series end.
     compiled : bool
         For a series other than Eq. 2.6's: the scheme as one numba kernel
-        (``KernelSeries``: compiled once for every order and truncation, some 5 s the
-        first time, then cached on disk) or in numpy (``NumericSeries``: no compiling,
-        some 30x slower).
+        (``KernelSeries``: compiled once for every order and truncation, then cached on
+        disk) or in numpy (``NumericSeries``: no compiling, many times slower; ``make
+        bench`` measures both).
 
     Returns
     -------
@@ -109,13 +108,18 @@ def compile_series(order: int, truncation: str | Truncation = "consistent",
         compile. All take ``(A0, omega, Omega, c, *coefficients)``.
     """
     order = check_int("order", order, minimum=0)
+    if not isinstance(compiled, bool):
+        raise ValueError(f"`compiled` must be True or False, got {compiled!r}.")
     resolved = truncation_for(truncation, parameters)
-    degrees = resolved.at_order(order)
-    if degrees == PAPER_TRUNCATION.at_order(order):
+    return _formulas(order, Truncation(resolved.name, *resolved.at_order(order)), compiled)
+
+
+@lru_cache(maxsize=None)
+def _formulas(order: int, kept: Truncation, compiled: bool) -> SeriesFormulas:
+    if kept.keeps_eq26_only(order):
         from ._compiled import lambdified_series  # sympy's lambdify, or its cache on disk
 
         return lambdified_series(order)
-    kept = Truncation(resolved.name, *degrees)
     if compiled:
         from ._series_kernel import kernel_series  # numba, and SeriesFormulas from here
 
@@ -123,3 +127,8 @@ def compile_series(order: int, truncation: str | Truncation = "consistent",
     from ._series_numeric import numeric_series  # here: it imports SeriesFormulas from here
 
     return numeric_series(order, kept)
+
+
+#: ``compile_series.cache_clear()`` empties what it keeps in this process (a study that
+#: times first calls does).
+compile_series.cache_clear = _formulas.cache_clear

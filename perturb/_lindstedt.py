@@ -39,7 +39,7 @@ from ._parameters import PAPER, ContactParameters
 from ._truncation import PAPER_TRUNCATION, Truncation, truncation_for
 
 __all__ = ["derive", "Series", "OrderEquation", "transfer", "gain_closed_form", "lag_closed_form"]
-__all__ += ["equation_2_6", "equation_in_contact", "eq26_substitution"]
+__all__ += ["equation_2_6", "eq26_substitution"]
 
 
 def transfer(k: int) -> sp.Expr:
@@ -188,15 +188,13 @@ class Series:
         self.truncation = truncation
         self.equations = _derive_orders(self.order, truncation)
         #: Whether the series keeps Eq. 2.6's terms only (h and linear damping).
-        self.is_eq26 = truncation.at_order(order) == PAPER_TRUNCATION.at_order(order)
+        self.is_eq26 = truncation.keeps_eq26_only(order)
 
     @property
     def coefficients(self) -> tuple[tuple[str, int], ...]:
         """The equation's coefficients the series holds past c: ("k", j) for k_j, j >= 2,
         then ("d", j) for d_j, j >= 1 (the compiled formulas' arguments after c)."""
-        spring, damping = self.truncation.at_order(self.order)
-        return (("k", 2), *(("k", j) for j in range(3, spring + 1)),
-                *(("d", j) for j in range(1, damping + 1)))
+        return self.truncation.coefficients(self.order)
 
     # -- structure -----------------------------------------------------------
     def harmonics(self, n: int) -> tuple[int, ...]:
@@ -290,15 +288,6 @@ def equation_2_6(u: sp.Expr) -> sp.Expr:
         + sym.h * u**2
         - sym.G * sp.cos(sym.Omega * t)
     )
-
-
-def equation_in_contact(u: sp.Expr, series: Series) -> sp.Expr:
-    """Left minus right side of the equation in contact that ``series`` solves, in the
-    series' symbols (eps = 1): Eq. 2.6 and the k_j u^j, d_j u^j u' its truncation keeps."""
-    t = sym.t
-    extra = sp.Add(*(sym.coefficient(kind, j) * u**j * (sp.diff(u, t) if kind == "d" else 1)
-                     for kind, j in series.coefficients if (kind, j) != ("k", 2)))
-    return equation_2_6(u) + extra
 
 
 def eq26_substitution(eq: Eq26) -> dict[sp.Symbol, sp.Expr]:

@@ -1,4 +1,4 @@
-"""The analytic frequency response of Eq. 2.6 from the compiled series.
+"""The analytic frequency response of the series, Eq. 2.6's or the contact's own.
 
 For a force amplitude P_a and an excitation frequency f_e (Omega = 2 pi f_e),
 a response of the series is a non-linear natural frequency omega with
@@ -56,7 +56,7 @@ from ._model import ContactModel
 from ._numbers import Eq26Numbers
 from ._parameters import PAPER, ContactParameters
 from ._response_codegen import NEXT_ORDERS, series_kernels, series_kernels_built
-from ._truncation import PAPER_TRUNCATION, Truncation, series_values, truncation_for
+from ._truncation import Truncation, series_values, truncation_for
 
 __all__ = ["frequency_response", "Response", "Branch"]
 
@@ -95,7 +95,9 @@ class Branch(Result):
         on the middle branch of a bent peak is an unstable orbit.
     error_estimate : ndarray
         Estimated relative error of App from the next two orders
-        (``truncation_error``); NaN where no root of those orders matches.
+        (``truncation_error``) and, for Eq. 2.6's series off the paper's contact, its
+        distance to the consistent series (``model_distance``); NaN where no root of
+        those orders matches.
     """
 
     frequency_hz: np.ndarray
@@ -418,7 +420,7 @@ def _chunk_solver(engine: str, order: int, truncation: Truncation):
     numpy needs none). Any other series is solved by the numpy route, its formulas the
     scheme's numba kernel ("compiled", "auto": compiled once for every order and
     truncation) or the scheme in numpy ("numpy")."""
-    eq26 = truncation.at_order(order + 2) == PAPER_TRUNCATION.at_order(order + 2)
+    eq26 = truncation.keeps_eq26_only(order + 2)
     from ._response_numpy import solve_chunk
 
     if not eq26:

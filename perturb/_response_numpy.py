@@ -275,7 +275,7 @@ def model_distance(order, values, G, Omega, rows, roots, base, app,
     Eq. 2.6 leaves out k_3 u^3 (m2 != 2) and d_1 u u' (l != 0): its own next orders do not
     see what they change, which this does."""
     truncation = truncation_for("consistent", values.parameters)
-    if (truncation.at_order(order + 2) == PAPER_TRUNCATION.at_order(order + 2)
+    if (truncation.keeps_eq26_only(order + 2)
             or (values.parameters.m2, values.parameters.l) == (2.0, 1.0)):
         return np.zeros(roots.size)
     formulas = compile_series(order + 2, truncation, compiled=compiled)

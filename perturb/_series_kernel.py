@@ -1,8 +1,8 @@
 """The numeric series of any truncation as one numba kernel, compiled once for every order.
 
 ``NumericSeries`` carries out the Lindstedt scheme on samples in numpy, every step on
-arrays of shape (lanes, samples): correct, but its temporaries make it slow (some 45 s
-for the frequency response of 10,000 frequencies at order 6). ``scheme_lanes`` carries
+arrays of shape (lanes, samples): correct, but its temporaries make it slow
+(``tests/benchmarks/bench_truncation.py`` times the two). ``scheme_lanes`` carries
 out the same scheme lane by lane on small work arrays that stay in the cache. The order,
 the degrees of the truncation and the coefficients are arguments at run time, so the
 kernel is compiled once (and cached on disk by numba) for every order and truncation.

@@ -58,8 +58,7 @@ class NumericSeries(SeriesFormulas):
         self.truncation = truncation
         spring, damping = truncation.at_order(order)
         self.spring, self.damping = spring, damping
-        self.coefficients = (("k", 2), *(("k", j) for j in range(3, spring + 1)),
-                             *(("d", j) for j in range(1, damping + 1)))
+        self.coefficients = truncation.coefficients(order)
         nonlinear = spring >= 2 or damping >= 1
         self.b_orders = tuple(range(2, order + 1, 2)) if nonlinear else ()
         self.keys = tuple((n, k) for n in range(order + 1) for k in range(n + 2)

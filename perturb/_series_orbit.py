@@ -63,6 +63,7 @@ def series_orbits(branch: Branch, order: int, parameters: ContactParameters = PA
     at_rest = np.asarray(branch.a0_m) == 0  # P_a = 0: b_n divides by A0 (Eq. 2.10)
     harmonics = np.zeros((Omega.size, 1), dtype=complex)
     if not at_rest.all():
+        _check_roots(formulas, values, branch, Omega, at_rest, truncation)
         harmonics = harmonics_in_drive_frame(formulas, values, branch.a0_m,
                                              branch.omega_rad_s, Omega)
         harmonics[at_rest] = 0.0
@@ -73,6 +74,22 @@ def series_orbits(branch: Branch, order: int, parameters: ContactParameters = PA
                         v_start_m_s=0.0 - Omega * (k * harmonics.imag).sum(axis=-1),
                         maxima_m=[values.y0_m + m for m in maxima],
                         minima_m=[values.y0_m - m for m in minima])
+
+
+def _check_roots(formulas, values, branch, Omega, at_rest, truncation) -> None:
+    """Raise a ValueError naming ``truncation`` if the branch's roots are not roots of
+    that series' frequency equation (Eq. 2.7): a branch of the other truncation, whose
+    orbits would come out wrong by as much as the truncations differ."""
+    from ._response_numpy import _arguments
+
+    omega, a0 = branch.omega_rad_s[~at_rest], branch.a0_m[~at_rest]
+    shift = formulas.frequency_shift(a0, omega, Omega[~at_rest], *_arguments(formulas, values))
+    residual = np.abs(omega**2 - values.omega0_rad_s**2 - shift) / omega**2
+    if np.any(residual > 1e-8):
+        raise ValueError(f"`branch` is not a branch of the {truncation!r} series of order "
+                         f"{formulas.order} at these parameters (its frequency equation is "
+                         f"off by {float(residual.max()):.1e} there): pass the `truncation` "
+                         "and `parameters` of the response it comes from.")
 
 
 def _local_extrema(u: np.ndarray, above) -> list[np.ndarray]:

@@ -69,11 +69,20 @@ class Truncation:
         damping = order if self.damping_degree is None else min(self.damping_degree, order)
         return max(spring, 1), max(damping, 0)
 
-    def is_paper_equation(self) -> bool:
-        """Whether the kept terms are Eq. 2.6's (k_2 and linear damping, nothing more)."""
-        return (self.spring_degree, self.damping_degree) == (2, 0)
+    def keeps_eq26_only(self, order: int) -> bool:
+        """Whether a series of ``order`` keeps Eq. 2.6's terms and no more (h and linear
+        damping): then it is Eq. 2.6's series, whatever the truncation's name."""
+        return self.at_order(order) == PAPER_TRUNCATION.at_order(order)
+
+    def coefficients(self, order: int) -> tuple[tuple[str, int], ...]:
+        """The coefficients a series of ``order`` holds past c: ("k", 2) (h), the other
+        k_j, then d_j, j >= 1 (the arguments of its numeric formulas after c)."""
+        spring, damping = self.at_order(order)
+        return (("k", 2), *(("k", j) for j in range(3, spring + 1)),
+                *(("d", j) for j in range(1, damping + 1)))
 
 
+#: Eq. 2.6: h u^2 and linear damping.
 PAPER_TRUNCATION = Truncation("paper", 2, 0)
 
 

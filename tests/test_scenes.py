@@ -82,7 +82,7 @@ def _error(text: str) -> str:
     ("[model]\nm2 = 0.5\n[study]\nkind = 'backbone'\n", "model.m2", 2),
     ("effects = 'full'\n[study]\nkind = 'analytic_response'\ntruncation = 'paper'\n"
      "[excitation]\npa_frac = 0.1\nfrequency_hz = [1.0]\n", "effects", 1),
-    ("effects = 'eq26'\n[study]\nkind = 'analytic_response'\n[excitation]\npa_frac = 0.1\n"
+    ("effects = 'linear'\n[study]\nkind = 'analytic_response'\n[excitation]\npa_frac = 0.1\n"
      "frequency_hz = [1.0]\n", "effects", 1),
 ])
 def test_a_bad_scene_is_one_error_naming_file_key_line_and_value(text, key, line):

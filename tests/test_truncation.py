@@ -139,7 +139,7 @@ def test_textbook_coefficient():
     assert sp.simplify(power_law_backbone_coefficients(2)[2] - textbook) == 0
 
 
-def test_paper_contact_backbone_is_todays_in_its_alpha():
+def test_paper_contact_backbone_is_eq26s_in_its_alpha():
     """m2 = 2: the consistent coefficients in a / y0 are Eq. 2.6's in a / (2 y0), exactly."""
     consistent, paper = backbone_series(8), backbone_series(8, "paper")
     assert all(c == p / 2**k for k, (c, p) in enumerate(zip(consistent.coefficients,
@@ -187,8 +187,8 @@ def _rk4_app(branch, order, parameters, pa_frac, truncation):
 
 
 @pytest.mark.parametrize("m2, l, pa_frac, band", [
-    (1.5, 0.5, 0.04, (1200.0, 1320.0)),  # softening: the peak bends down
-    (2.5, 1.5, 0.03, (1500.0, 1700.0)),  # hardening: the peak bends up
+    (1.5, 0.5, 0.04, (1200.0, 1320.0)),  # f_n0 1286 Hz; Eq. 2.6's bends too little
+    (2.5, 1.5, 0.03, (1500.0, 1700.0)),  # f_n0 1661 Hz; Eq. 2.6's bends too much
 ])
 def test_forced_response_against_rk4(m2, l, pa_frac, band):
     """Consistent order 8 within 0.05 % of RK4 wherever valid (measured: 0.02 %);
@@ -297,3 +297,32 @@ def test_cli_backbone_at_amplitudes(tmp_path):
     data = json.loads(out.read_text())
     assert data["app_m"] == [float(exact.app_m[0])]
     assert data["frequency_hz"][0] == pytest.approx(exact.frequency_hz[0], rel=1e-6)
+
+
+def test_series_orbits_refuses_a_branch_of_the_other_truncation():
+    # A branch does not record its truncation: its roots tell (Eq. 2.7 holds for one).
+    frequency = np.array([1000.0, 1420.0])
+    branch = frequency_response(frequency, 0.05, 6, truncation="paper").branches[0]
+    series_orbits(branch, 6, truncation="paper")
+    with pytest.raises(ValueError, match="`branch` is not a branch of the 'consistent'"):
+        series_orbits(branch, 6)
+
+
+def test_a_scene_on_eq26_solves_eq26s_series():
+    from numerics.scenes import SceneError, parse_scene
+
+    text = ('effects = "{}"\n[excitation]\npa_frac = 0.05\nfrequency_hz = [800.0]\n'
+            '[study]\nkind = "analytic_response"\n')
+    assert parse_scene(text.format("eq26")).options["truncation"] == "paper"
+    assert parse_scene(text.format("full")).options["truncation"] == "consistent"
+    with pytest.raises(SceneError, match='truncation = \\"paper\\"'):
+        parse_scene(text.format("linear"))
+
+
+def test_backbone_frequency_is_nan_past_contact_loss():
+    """Past loss of contact the free oscillation is not the law's: no frequency."""
+    series = backbone_series(8)
+    exact = exact_backbone(np.array([0.5, 1.2]) * Y0)
+    found = series.frequency_at_app_hz(exact.app_m)
+    assert np.isfinite(found[0]) and not exact.contact_lost[0]
+    assert np.isnan(found[1]) and exact.contact_lost[1]

@@ -6,6 +6,7 @@ import argparse
 
 from common import int_at_least, nonnegative_float, output_file
 from perturb._model_option import add_model_option, model_parameters
+from perturb._truncation import TRUNCATIONS
 
 __all__ = ["add_compare_parser"]
 
@@ -19,7 +20,7 @@ def add_compare_parser(sub) -> None:
     parser.add_argument("--pa-frac", type=nonnegative_float, nargs="+",
                         default=[0.05, 0.10, 0.15],
                         help="force amplitudes P_a / Q, finite, >= 0 (default 0.05 0.10 0.15)")
-    parser.add_argument("--truncation", choices=("consistent", "paper"), default="consistent",
+    parser.add_argument("--truncation", choices=TRUNCATIONS, default="consistent",
                         help="the series: every term of the contact's equation up to the "
                         "order (consistent, the default) or Eq. 2.6's (paper)")
     parser.add_argument("--json", metavar="FILE", type=output_file,

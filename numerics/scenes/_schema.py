@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from perturb import EQ_2_6, FULL, LINEAR, ContactParameters, Effects, parameters_with
+from perturb._truncation import TRUNCATIONS
 
 from ._study_checks import Checked, Invalid, check_atlas, check_continuation, check_folds
 
@@ -100,7 +101,7 @@ def _walk_options(module: str) -> dict[str, Option]:
 
 _STEADY = ("app", "extrema", "spectrum", "contact_fraction")
 #: Which terms of the contact's equation a series keeps (``perturb.derive``).
-_TRUNCATION = Option("choice", "consistent", choices=("consistent", "paper"))
+_TRUNCATION = Option("choice", "consistent", choices=TRUNCATIONS)
 #: Figures drawn from an observable, which the scene must ask for (a sweep's App figure
 #: is drawn from the sweep itself).
 _FIGURE_NEEDS = {name: name for name in ("app", "spectrum", "contact_fraction",
@@ -173,7 +174,8 @@ _FIXED_WHY = {"analytic_response": "solves the series of Eq. 2.6 (truncation = \
               "natural_frequency": "is f_n0 of Eq. 2.6 in closed form",
               "comparison": "compares the series with RK4 of Eq. 2.6 and of the full model"}
 
-_CONSISTENT_WHY = "solves the consistent series of the contact's own equation in contact"
+_CONSISTENT_WHY = ("solves the consistent series of the contact's own equation in contact; "
+                   "truncation = \"paper\" solves Eq. 2.6's on effects \"eq26\"")
 
 
 def _fixed_effects(kind: str, options: dict) -> str | None:
@@ -347,6 +349,9 @@ class _Reader:
         options = self.options(kind, study, study_table)
         overrides = self.model(data.get("model", {}))
         parameters = self.parameters(overrides)
+        if (kind == "analytic_response" and data.get("effects") == "eq26"
+                and "truncation" not in study_table):
+            options = {**options, "truncation": "paper"}  # Eq. 2.6's model: its series
         fixed = _fixed_effects(kind, options)
         effects = self.effects(data.get("effects", fixed or "full"), study, kind, fixed)
         pa_frac, frequency = self.excitation(data.get("excitation"), study, kind)

@@ -56,7 +56,7 @@ from .._response_reference import reference_response
 from ._timing import header, interleaved_medians, median_time, row
 
 # The rows of Eq. 2.6's series (the paper's truncation), as they always were; the
-# consistent series has rows of its own (``bench_consistent``).
+# consistent series has rows of its own (``bench_truncation``).
 derive = functools.partial(derive, truncation="paper")
 compile_series = functools.partial(compile_series, truncation="paper")
 frequency_response = functools.partial(frequency_response, truncation="paper")

@@ -56,7 +56,7 @@ from ._model import ContactModel
 from ._numbers import Eq26Numbers
 from ._parameters import PAPER, ContactParameters
 from ._response_codegen import NEXT_ORDERS, series_kernels, series_kernels_built
-from ._truncation import Truncation, series_values, truncation_for
+from ._truncation import Truncation, measures_model_distance, series_values, truncation_for
 
 __all__ = ["frequency_response", "Response", "Branch"]
 
@@ -447,7 +447,7 @@ def _solve_chunk(values, G, Omega, order, omega_range, grid_points, samples, tol
     u_max, u_min = np.empty(roots.size), np.empty(roots.size)
     kernels.waveform_extrema(base.real[0], base.imag[0], base.lag, *tables, u_max, u_min)
     error = truncation_error(kernels, values, G, Omega, rows, base, u_max - u_min, tables)
-    if truncation.name == "paper":
+    if truncation.name == "paper" and measures_model_distance(order, values.parameters):
         error = np.maximum(error, _model_distance(order, values, G, Omega, rows, base,
                                                   u_max - u_min, samples))
     valid = (values.y0_m + u_min > 0) & (error < tolerance)

@@ -18,7 +18,7 @@ import numpy as np
 
 from ._formulas import SeriesFormulas, compile_series
 from ._response import _RESONANCE_OFFSETS, _match_distance
-from ._truncation import PAPER_TRUNCATION, Truncation, truncation_for
+from ._truncation import PAPER_TRUNCATION, Truncation, measures_model_distance, truncation_for
 
 __all__ = ["solve_chunk", "harmonics_in_drive_frame", "sample_waveform", "refined_at"]
 
@@ -274,10 +274,9 @@ def model_distance(order, values, G, Omega, rows, roots, base, app,
 
     Eq. 2.6 leaves out k_3 u^3 (m2 != 2) and d_1 u u' (l != 0): its own next orders do not
     see what they change, which this does."""
-    truncation = truncation_for("consistent", values.parameters)
-    if (truncation.keeps_eq26_only(order + 2)
-            or (values.parameters.m2, values.parameters.l) == (2.0, 1.0)):
+    if not measures_model_distance(order, values.parameters):
         return np.zeros(roots.size)
+    truncation = truncation_for("consistent", values.parameters)
     formulas = compile_series(order + 2, truncation, compiled=compiled)
     Omega_r, G_r = Omega[rows], np.full(rows.size, G)
     distance = _match_distance(rows, roots, values.c_per_s)

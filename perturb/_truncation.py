@@ -38,7 +38,8 @@ from ._numbers import Eq26Numbers, eq26_numbers
 from ._parameters import PAPER, ContactParameters
 
 __all__ = ["Truncation", "TRUNCATIONS", "truncation_for", "coefficient_values",
-           "binomial", "coefficient_closed_form", "SeriesValues", "series_values"]
+           "binomial", "coefficient_closed_form", "SeriesValues", "series_values",
+           "measures_model_distance"]
 
 #: The truncations by name: "consistent" (every term up to the order) and "paper" (Eq. 2.6).
 TRUNCATIONS = ("consistent", "paper")
@@ -107,6 +108,16 @@ def truncation_for(name: str | Truncation, parameters: ContactParameters = PAPER
         return PAPER_TRUNCATION
     return Truncation("consistent", _polynomial_degree(parameters.m2),
                       _polynomial_degree(parameters.l))
+
+
+def measures_model_distance(order: int, parameters: ContactParameters) -> bool:
+    """Whether the error of Eq. 2.6's order-N series at ``parameters`` includes
+    ``model_distance``: not on the paper's own contact (m2 = 2, l = 1), whose flags are
+    the paper's, nor where the consistent series is Eq. 2.6's (m2 = 2, l = 0)."""
+    if (parameters.m2, parameters.l) == (2.0, 1.0):
+        return False
+    return not truncation_for("consistent", parameters).keeps_eq26_only(order + 2)
+
 
 
 def binomial(exponent: float, j: int) -> float:

@@ -421,7 +421,7 @@ def test_the_command_draws_the_series_stability_over_the_continued_eq26_branch(t
 
     plot = tmp_path / "series.png"
     assert main(["continue", "--pa-frac", "0.05", "--fmin", "1300", "--fmax", "1500",
-                 "--series", "6", "--quiet", "--plot", str(plot),
+                 "--series", "6", "--truncation", "paper", "--quiet", "--plot", str(plot),
                  "--json", str(tmp_path / "c.json")]) == 0
     assert load(tmp_path / "c-series.json").order == 6  # the series' stability, beside
     printed = capsys.readouterr().out
@@ -436,7 +436,8 @@ def test_the_series_over_an_empty_branch_is_drawn_not_raised(tmp_path):
     # (period 2 at 0.05 Q) raised IndexError in the figure; it exits 1 with the message.
     done = subprocess.run([sys.executable, "-m", "numerics", "continue", "--pa-frac", "0.05",
                            "--fmin", "1300", "--fmax", "1600", "--period", "2", "--series",
-                           "2", "--quiet", "--plot", str(tmp_path / "p.png")],
+                           "2", "--truncation", "paper", "--quiet", "--plot",
+                           str(tmp_path / "p.png")],
                           capture_output=True, text=True)
     assert done.returncode == 1 and "Traceback" not in done.stderr
     assert "no stable 2-periodic orbit" in done.stdout

@@ -13,6 +13,7 @@ from pathlib import Path
 from common import int_at_least, nonnegative_float, output_file, positive_float
 from perturb import EQ_2_6, FULL, PAPER_BAND_HZ, ContactModel
 from perturb._model_option import add_model_option, model_parameters
+from perturb._truncation import TRUNCATIONS
 
 from ._errors import option_error
 from ._steady import _steps, add_band_options, check_band, report
@@ -20,7 +21,8 @@ from ._steady import _steps, add_band_options, check_band, report
 __all__ = ["add_continue_parser"]
 
 #: The options of each kind of continuation (dest -> option), refused with the other.
-IN_F_ONLY = {"fmin": "--fmin", "fmax": "--fmax", "series": "--series", "switch": "--switch"}
+IN_F_ONLY = {"fmin": "--fmin", "fmax": "--fmax", "series": "--series", "switch": "--switch",
+             "truncation": "--truncation"}
 IN_FORCE_ONLY = {"pa_min": "--pa-min", "pa_max": "--pa-max"}
 #: The library's arguments as this command's options, for its error messages.
 OPTIONS = {"pa_frac": "--pa-frac", "fmin_hz": "--fmin", "fmax_hz": "--fmax",
@@ -58,9 +60,12 @@ def add_continue_parser(sub) -> None:
     in_f.add_argument("--series", metavar="N", type=int_at_least(0, MAX_SERIES_ORDER),
                       help="also the order-N perturbation series (N <= "
                       f"{MAX_SERIES_ORDER}), each root with the stability of the orbit it "
-                      "describes (issue 13, item 3); the branch continued is then the "
-                      "series' own model, Eq. 2.6, --plot draws the series over it, and "
-                      "--json FILE writes the series' stability to FILE-series.json too")
+                      "describes; the branch continued is then the series' own model "
+                      "(Eq. 2.6 with --truncation paper), --plot draws the series over it, "
+                      "and --json FILE writes the series' stability to FILE-series.json too")
+    in_f.add_argument("--truncation", choices=TRUNCATIONS,
+                      help="with --series: the contact's consistent series (the default; "
+                      "the full model continued) or Eq. 2.6's (paper; Eq. 2.6 continued)")
     in_f.add_argument("--switch", action="store_true",
                       help="also continue the branch of period 2p born at each period "
                       "doubling found (branch switching)")
@@ -78,8 +83,12 @@ def _continue(args: argparse.Namespace) -> int:
     check_band(args)
     from .._continuation import continue_orbits
 
+    if args.truncation is not None and args.series is None:
+        args.parser.error("argument --truncation: goes with --series")
+    args.truncation = args.truncation or "consistent"
     parameters = model_parameters(args)
-    model = ContactModel(parameters, FULL if args.series is None else EQ_2_6)
+    eq26 = args.series is not None and args.truncation == "paper"
+    model = ContactModel(parameters, EQ_2_6 if eq26 else FULL)
     try:
         # The series first: it is quick, and a value it refuses stops before the branch.
         stability = None if args.series is None else _series(args, parameters)
@@ -158,5 +167,5 @@ def _series(args: argparse.Namespace, parameters):
 
     response = frequency_response(np.linspace(args.fmin, args.fmax, SERIES_POINTS),
                                   args.pa_frac, args.series, parameters=parameters,
-                                  truncation="paper")
+                                  truncation=args.truncation)
     return series_stability(response)

@@ -45,7 +45,7 @@ from common import (
 from ._model_option import add_model_option, model_parameters
 from ._parameters import PAPER_BAND_HZ
 from ._response import MAX_FREQUENCIES, frequency_response
-from ._truncation import TRUNCATIONS
+from ._truncation import TRUNCATIONS, truncation_for
 
 # derive and backbone import sympy in their commands: `response` with its order's
 # kernels built needs none of it.
@@ -54,6 +54,10 @@ from ._truncation import TRUNCATIONS
 #: `python -m perturb derive --order N` on the 2-core machine (see the note).
 SLOW_PRINT_ORDER = 20
 SLOW_PRINT_EXAMPLE = "measured: order 16 7 s, order 20 17 s, order 24 26 s"
+#: The same for a consistent series whose sums do not end (m2 or l no integer): measured
+#: with `derive --order N --set m2=1.5 --set l=0.5` (text only) on the 2-core machine.
+SLOW_GROWING_ORDER = 5
+SLOW_GROWING_EXAMPLE = "measured at m2 = 1.5, l = 0.5: order 5 3.7 s, order 6 10.7 s"
 
 
 def _derive(args: argparse.Namespace) -> None:
@@ -69,13 +73,20 @@ def _derive(args: argparse.Namespace) -> None:
         stages.append((stage, time.perf_counter() - start))
         return out
 
-    if args.order > SLOW_PRINT_ORDER:
-        note(f"order {args.order}: the closed forms take half a minute to minutes to simplify "
-             f"and print (above order {SLOW_PRINT_ORDER}; {SLOW_PRINT_EXAMPLE})",
-             quiet=args.quiet)
     parameters = model_parameters(args)
     # The derivation study is Eq. 2.6's in the paper's names: --steps asks for it.
     truncation = args.truncation or ("paper" if args.steps else "consistent")
+    growing = truncation_for(truncation, parameters).spring_degree is None or \
+        truncation_for(truncation, parameters).damping_degree is None
+    if growing and args.order > SLOW_GROWING_ORDER:
+        note(f"order {args.order}: the consistent series of a law that is no polynomial "
+             "gains terms at every order, and its closed forms grow some 2.5x an order "
+             f"({SLOW_GROWING_EXAMPLE}); its numbers come from compile_series at any order",
+             quiet=args.quiet)
+    elif args.order > SLOW_PRINT_ORDER:
+        note(f"order {args.order}: the closed forms take half a minute to minutes to simplify "
+             f"and print (above order {SLOW_PRINT_ORDER}; {SLOW_PRINT_EXAMPLE})",
+             quiet=args.quiet)
     series = timed("derivation", lambda: derive(args.order, truncation, parameters))
     if args.steps and not series.is_eq26:
         args.parser.error("argument --steps: the derivation study writes Eq. 2.6's series in "

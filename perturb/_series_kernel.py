@@ -229,18 +229,7 @@ class KernelSeries(NumericSeries):
 
     The kernel takes one value of each coefficient for all lanes (as every caller passes:
     the contact's k_j, d_j); coefficients that vary over the lanes are evaluated by
-    ``NumericSeries``.
-
-    Attributes
-    ----------
-    order : int
-    truncation : Truncation
-    coefficients : tuple of (str, int)
-        ("k", j) for k_j, j >= 2, then ("d", j) for d_j, j >= 1: the arguments after c.
-    b_orders : tuple of int
-        The n of the b_n that ``b`` returns (the even n >= 2).
-    keys : tuple of (int, int)
-        The (n, k) of the harmonics that ``amplitudes`` returns (k = ..., n-1, n+1).
+    ``NumericSeries``. Its attributes are ``NumericSeries``'.
     """
 
     def evaluate(self, A0: npt.ArrayLike, omega: npt.ArrayLike, Omega: npt.ArrayLike,

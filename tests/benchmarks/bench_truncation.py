@@ -7,6 +7,8 @@
   the last: the middle one is the unstable orbit, which RK4 does not settle on) is held
   against the RK4 steady state of the full model reached from the series' own orbit;
   a valid root more than its tolerance (1 %) off is a false flag. Both truncations.
+- **The paper's contact** at 0.05 Q on the bent primary peak: App of Eq. 2.6's series
+  and of the consistent one beside RK4 of the full model (what d_1 u u' changes).
 - **Cost.** A new process's first consistent response of order 8 at a new m2 (no
   series derived or compiled) beside Eq. 2.6's series of the same order from an empty
   cache (derived, lambdified); and 10,000 frequencies at order 6, consistent beside
@@ -70,6 +72,21 @@ def _flags(truncation: str) -> tuple[int, int, float]:
     return checked, false, worst
 
 
+def bench_paper_contact() -> None:
+    """What d_1 u u' changes on the paper's own contact (docs/perturb.md's table)."""
+    header("the paper's contact, 0.05 Q, order 8, upper branch: App against RK4 (full model)")
+    frequency = np.array([1400.0, 1420.0, 1440.0])
+    for truncation in ("paper", "consistent"):
+        top = frequency_response(frequency, 0.05, 8, truncation=truncation).branches[0]
+        orbit = series_orbits(top, 8, PAPER, truncation=truncation)
+        found = steady_states(top.frequency_hz, 0.05 * PAPER.Q_n, model=ContactModel(PAPER),
+                              y_init_m=orbit.y_start_m, v_init_m_s=orbit.v_start_m_s,
+                              app_guess_m=top.app_m)
+        for f, app, rk4 in zip(top.frequency_hz, top.app_m, found.app_m):
+            row(f"{truncation}, {f:.0f} Hz: App/App_RK4 - 1 (RK4 App [nm])", app / rk4 - 1,
+                rk4 * 1e9, "", ratio=False)
+
+
 def bench_flags() -> None:
     header("valid flags of order 8 against RK4 of the full model, 16 contacts x 9 f_e")
     for truncation in ("consistent", "paper"):
@@ -121,6 +138,7 @@ def bench_cost() -> None:
 
 
 def main() -> None:
+    bench_paper_contact()
     bench_flags()
     bench_cost()
 

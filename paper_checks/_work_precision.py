@@ -48,8 +48,9 @@ import numpy as np
 from common import jsonable
 from numerics import steady_states
 from numerics.scenes import Option, Study, StudyRun, register_study
-from perturb import EQ_2_6, PAPER, ContactModel, compile_series, frequency_response
+from perturb import EQ_2_6, FULL, PAPER, ContactModel, compile_series, frequency_response
 from perturb._compiled import formulas_cached, lambdified_series
+from perturb._truncation import TRUNCATIONS, truncation_for
 
 __all__ = ["WorkPrecision", "work_precision", "scene_methods", "RK4_POINTS", "SERIES_POINTS"]
 
@@ -150,38 +151,47 @@ def _rk4(quick: bool, ref) -> Method:
     return method
 
 
-def _series(quick: bool) -> Method:
+def _series(quick: bool, truncation: str = "paper") -> Method:
+    """The series by its order against RK4 of its own model: Eq. 2.6's series (the numpy
+    route) against Eq. 2.6, or the consistent series (the scheme's kernel) against the
+    full model."""
     f = np.array([p[1] for p in SERIES_POINTS])
     frac = SERIES_POINTS[0][0]
-    ref = steady_states(f, frac * PAPER.Q_n, model=ContactModel(effects=EQ_2_6),
+    paper = truncation == "paper"
+    ref = steady_states(f, frac * PAPER.Q_n, model=ContactModel(effects=EQ_2_6 if paper
+                                                                else FULL),
                         steps_per_period=1600, tol=1e-9)
     orders = SERIES_ORDERS[:5] if quick else SERIES_ORDERS
-    derive_seconds, cached = _compile_orders(orders[-1] + ERROR_ORDERS)
-    method = Method("series", "order N (numpy route)",
+    derive_seconds, cached = _compile_orders(orders[-1] + ERROR_ORDERS, truncation)
+    setting = "order N (numpy route)" if paper else "order N, consistent (the scheme's kernel)"
+    method = Method("series", setting,
                     extra={"derive_seconds": derive_seconds[:len(orders)],
                            "derive_cached": cached[:len(orders)]})
+    engine = "numpy" if paper else "compiled"
     for order in orders:
         response, seconds = _best_of(lambda o=order: frequency_response(f, frac, o,
-                                                                        engine="numpy",
-                                                                        truncation="paper"))
+                                                                        engine=engine,
+                                                                        truncation=truncation))
         method.settings.append(order)
         method.errors.append(_series_error(response, ref.app_m))
         method.seconds.append(seconds)
     return method
 
 
-def _compile_orders(highest: int) -> tuple[list[float], list[bool]]:
+def _compile_orders(highest: int, truncation: str = "paper"
+                    ) -> tuple[list[float], list[bool]]:
     """Derive and compile orders 0..``highest`` in turn, or import them from the disk:
-    the seconds of each, and whether it was on the disk. The process's own cache of
+    the seconds of each, and whether it was on the disk (the consistent series derives
+    nothing: its kernel is compiled once, in numba's cache). The process's own cache of
     ``compile_series`` is emptied first (another scene may have filled it in this
     worker), so that each is a first call."""
     compile_series.cache_clear()
     lambdified_series.cache_clear()  # where compile_series keeps Eq. 2.6's formulas
     seconds, cached = [], []
     for order in range(highest + 1):
-        cached.append(formulas_cached(order))
+        cached.append(formulas_cached(order) if truncation == "paper" else True)
         start = time.perf_counter()
-        compile_series(order, "paper")
+        compile_series(order, truncation)
         seconds.append(time.perf_counter() - start)
     return seconds, cached
 
@@ -214,15 +224,20 @@ def _dop853(ref, quick: bool) -> Method:
     return method
 
 
-def work_precision(quick: bool = False, methods=METHODS) -> WorkPrecision:
+def work_precision(quick: bool = False, methods=METHODS,
+                   truncation: str = "consistent") -> WorkPrecision:
     """Measure the error and time of each of ``methods`` (names of ``METHODS``, by
-    default all), in this run and in the order of ``METHODS``."""
+    default all), in this run and in the order of ``METHODS``; the series of
+    ``truncation`` ("consistent": against RK4 of the full model; "paper": Eq. 2.6's
+    series against RK4 of Eq. 2.6)."""
     unknown = set(methods) - set(METHODS)
     if unknown or not methods:
         raise ValueError(f"`methods` must name some of {METHODS}, got {methods!r}.")
+    truncation = truncation_for(truncation).name  # a bad name: a ValueError
     start = time.perf_counter()
     ref = _reference() if {"RK4", "DOP853"} & set(methods) else None
-    measure = {"RK4": lambda: _rk4(quick, ref), "series": lambda: _series(quick),
+    measure = {"RK4": lambda: _rk4(quick, ref),
+               "series": lambda: _series(quick, truncation),
                "DOP853": lambda: _dop853(ref, quick)}
     measured = [measure[name]() for name in METHODS if name in methods]
     return WorkPrecision(measured, time.perf_counter() - start)
@@ -237,7 +252,8 @@ def scene_methods(scene) -> tuple[str, ...]:
 
 def _run_scene_study(scene, model, frequency_hz, quiet) -> StudyRun:
     """The ``work_precision`` scene study (each method runs its own model and points)."""
-    work = work_precision(quick=scene.options["quick"], methods=scene_methods(scene))
+    work = work_precision(quick=scene.options["quick"], methods=scene_methods(scene),
+                          truncation=scene.options["truncation"])
     return StudyRun([], "RK4 steady states by steps per period, the series by order, DOP853 "
                         "by rtol; the measurement is the text, as JSON", text=work.to_text())
 
@@ -245,7 +261,8 @@ def _run_scene_study(scene, model, frequency_hz, quiet) -> StudyRun:
 register_study(
     "work_precision",
     Study({"quick": Option("bool", False),
-           "method": Option("choice", "all", choices=("all", *METHODS))},
+           "method": Option("choice", "all", choices=("all", *METHODS)),
+           "truncation": Option("choice", "consistent", choices=TRUNCATIONS)},
           observables=(), default_observables=(),
           figures=("work_precision",)),
     _run_scene_study,

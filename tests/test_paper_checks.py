@@ -275,7 +275,7 @@ def test_a_work_precision_part_that_fails_raises_where_the_study_is_asked_for(
         tmp_path, monkeypatch):
     from paper_checks import _work_precision
 
-    def broken(quick):
+    def broken(*args):  # _series(quick, truncation)
         raise RuntimeError("the series part broke")
 
     monkeypatch.setattr(_work_precision, "_series", broken)  # the forked workers too

@@ -23,6 +23,12 @@ F cos(k Omega t + psi) (A8 cos(...), A9 cos(2 Omega t + phi3), ...). A phase of
 u_n is then written as the paper writes it, the right side's phase plus the
 transfer's: u3 = A11 + A12 cos(2 Omega t + phi3 + phi1) + ..., and so on past the
 paper's order (A_5_2 cos(2 Omega t + psi_5_2 + phi1)).
+
+The consistent series of a contact (``derive(order, "consistent", parameters)``) is
+studied the same way, in the engine's names: its extra terms (k_j u^j, d_j u^j u', a
+derivative written k Omega A cos(k Omega t + phi + pi/2)) do not fit the paper's, so
+every order's harmonics are gathered into F_n_k cos(k Omega t + psi_n_k) as A.1 and A.2
+do, from order 0 on.
 """
 
 from __future__ import annotations
@@ -115,13 +121,7 @@ TITLES = {
 
 
 def _check_study(series) -> Series:
-    """The series, if it is Eq. 2.6's: the study writes the paper's terms, names and steps."""
-    series = _check_series(series)
-    if not series.is_eq26:
-        raise ValueError("`series` must be Eq. 2.6's (derive(order, 'paper')): the derivation "
-                         "study writes the paper's terms in the paper's names; got a series "
-                         f"that keeps {list(series.coefficients)}.")
-    return series
+    return _check_series(series)
 
 
 class _Derivation:
@@ -129,11 +129,17 @@ class _Derivation:
 
     def __init__(self, series: Series) -> None:
         self.series = series
-        names = paper_names(min(series.order, PAPER_ORDER))
-        # The paper's names that are one engine symbol (A12 = A_3_2, phi3 = psi_3_2, ...).
-        self.rename = {engine: _paper(name) for name, engine in names.items()
-                       if engine.isidentifier()}
-        self.rename["theta_1"] = self.rename["phi_0_1"]  # u0 = G H_1 cos(Omega t + theta_1)
+        if series.is_eq26:
+            names = paper_names(min(series.order, PAPER_ORDER))
+            # The paper's names that are one engine symbol (A12 = A_3_2, phi3 = psi_3_2, ...).
+            self.rename = {engine: _paper(name) for name, engine in names.items()
+                           if engine.isidentifier()}
+            self.rename["theta_1"] = self.rename["phi_0_1"]  # u0 = G H_1 cos(Omega t + theta_1)
+        else:  # the terms the paper does not have: the engine's names throughout
+            self.rename = {"theta_1": sym.phase(0, 1)}
+        # The paper solves orders 0-2 term by term (Eq. 2.8-2.10); the consistent series'
+        # extra terms do not fit those names, so it gathers every order's harmonics.
+        self.termwise_orders = TERMWISE_ORDERS if series.is_eq26 else 0
         self.termwise = _termwise_parts()
         self.parts: dict[tuple[int, int], list[Part]] = {}  # u_n by harmonic, solved so far
         self.transfers: set[int] = set()  # harmonics whose transfer is written out
@@ -154,7 +160,10 @@ class _Derivation:
         b_names = {sym.b(j): self.b(j) for j in term.bs}
         parts: list[Part] = [(term._prefactor().xreplace(b_names), sp.Integer(0))]
         for f in term.factors:
-            parts = [(c * a, x + f.sign * y) for c, x in parts
+            # A derivative factor (d_j u^j u'): k Omega A cos(k Omega t + phi + pi/2).
+            scale = f.harmonic * sym.Omega if f.derivative else 1
+            shift = sp.pi / 2 if f.derivative else 0
+            parts = [(c * a * scale, x + f.sign * (y + shift)) for c, x in parts
                      for a, y in self.parts[(f.order, f.harmonic)]]
         if term.harmonic == 0:  # a constant: cos(phase) is part of its amplitude
             parts = [(c * sp.cos(x), sp.Integer(0)) for c, x in parts]
@@ -174,14 +183,17 @@ class _Derivation:
 
     # -- the steps -----------------------------------------------------------
     def equation(self, n: int) -> _Step:
-        generic = generic_right_side(n)
+        generic = generic_right_side(n, self.series)
         names = {sp.Symbol(f"u_{i}"): sp.Symbol(f"u{i}") for i in range(n)}
+        names.update({sp.Symbol(f"du_{i}"): sp.Symbol(f"u{i}'") for i in range(n)})
         names.update({sym.b(k): self.b(k) for k in range(1, n + 1)})
         left = (_left_side_text(n, "u"), _left_side_latex(n))
         rows = [_Row(generic.xreplace(names), left)]
         if n:
             known = {sym.b(k): 0 for k in range(1, n) if not self.series.has_b(k)}
             known.update({sp.Symbol(f"u_{i}"): self.solution(i) for i in range(n)})
+            known.update({sp.Symbol(f"du_{i}"): sp.diff(self.solution(i), sym.t)
+                          for i in range(n)})
             rows.append(_Row(generic.xreplace(known).xreplace(names)))
         return _Step(TITLES["equation"], tuple(rows))
 
@@ -206,7 +218,7 @@ class _Derivation:
     def harmonics(self, n: int, rhs: dict[int, list[Part]]) -> tuple[_Step, dict]:
         rows = [_Row(_cosines(k, parts), harmonic=k) for k, parts in rhs.items()]
         gathered = rhs
-        if n >= TERMWISE_ORDERS:
+        if n >= self.termwise_orders:
             gathered, more = self.forcing(n, rhs)
             rows += more
         return _Step(TITLES["harmonics"], tuple(rows)), gathered
@@ -260,12 +272,12 @@ class _Derivation:
         if n and b_n == 0:  # b_n u0 goes
             rhs = {k: [(a.subs(self.b(n), 0), x) for a, x in parts] for k, parts in rhs.items()}
             rhs = {k: [(a, x) for a, x in parts if a != 0] for k, parts in rhs.items()}
-        solve = self._solve_termwise if n < TERMWISE_ORDERS else self._solve_gathered
+        solve = self._solve_termwise if n < self.termwise_orders else self._solve_gathered
         definitions = [row for k, parts in rhs.items() if parts for row in solve(n, k, parts)]
         u_n, u = sp.Symbol(f"u{n}"), self.solution(n)
         split = {_paper(name): _paper(first) + _paper(rest)
                  for name, (first, rest) in SPLIT.items()}
-        if n < TERMWISE_ORDERS and u.has(*split):  # Eq. 2.10: the four terms, then regrouped
+        if n < self.termwise_orders and u.has(*split):  # Eq. 2.10: the four terms, then regrouped
             rows = [_Row(u.xreplace(split).expand(), u_n), _Row(u)]
         else:
             rows = [_Row(u, u_n)]
@@ -292,7 +304,9 @@ def _orders(series: Series, each_order: Callable[[], object] | None) -> list[lis
     return orders
 
 
-def _heading(n: int) -> tuple[str, str]:
+def _heading(n: int, series: Series) -> tuple[str, str]:
+    if not series.is_eq26:
+        return (f"Order eps^{n}", rf"Order $\varepsilon^{{{n}}}$")
     if n <= PAPER_ORDER:
         return (f"Order eps^{n} (Eq. {EQUATIONS[n]})",
                 rf"Order $\varepsilon^{{{n}}}$ (Eq.~{EQUATIONS[n]})")
@@ -301,6 +315,8 @@ def _heading(n: int) -> tuple[str, str]:
 
 
 def _preamble(series: Series) -> list[str]:
+    if not series.is_eq26:
+        return _consistent_preamble(series)
     omega2 = series.omega_squared().xreplace({sym.b(n): _paper(f"b{n}")
                                               for n in range(1, PAPER_ORDER + 1)})
     return [
@@ -319,7 +335,9 @@ def _preamble(series: Series) -> list[str]:
 
 
 def derivation_text(series: Series, *, each_order: Callable[[], object] | None = None) -> str:
-    r"""The derivation, order by order and step by step, as text in the paper's names.
+    r"""The derivation, order by order and step by step, as text: Eq. 2.6's series in the
+    paper's names; a series that keeps more of the equation in contact (the consistent
+    truncation) in the engine's, every order's harmonics gathered (A.1, A.2's way).
 
     Parameters
     ----------
@@ -341,11 +359,29 @@ def derivation_text(series: Series, *, each_order: Callable[[], object] | None =
     """
     lines = _preamble(_check_study(series))
     for n, steps in enumerate(_orders(series, each_order)):
-        lines.append(_heading(n)[0])
+        lines.append(_heading(n, series)[0])
         for step in steps:
             lines.append("  " + step.title[0])
             lines += ["    " + _text_row(row) for row in step.rows]
     return "\n".join(lines) + "\n"
+
+
+def _consistent_preamble(series: Series) -> list[str]:
+    """The first lines of the study of a series that keeps more than Eq. 2.6."""
+    from ._printing import _heading as report_heading
+
+    equation, *coefficients = report_heading(series)[1:]
+    return [
+        f"Derivation of the {series.truncation.name} series of the equation in contact to "
+        f"order {series.order}, step by step, in the engine's names",
+        equation,
+        *coefficients,
+        "u = u0 + eps*u1 + eps**2*u2 + ..., omega**2 = omega0**2 + eps**2*b2 + ...; "
+        "ui' = du_i/dt",
+        "Names: A_n_k, phi_n_k of u_n's harmonic k, F_n_k, psi_n_k of the right side's, b_n, "
+        "and the transfer of harmonic k: H_k*exp(I*theta_k) = 1/(omega**2 - k**2*Omega**2 + "
+        "2*I*k*c*Omega).",
+    ]
 
 
 def _text_row(row: _Row) -> str:
@@ -372,7 +408,7 @@ def derivation_latex(series: Series, *, each_order: Callable[[], object] | None 
     """
     out = [rf"% {line}" for line in _preamble(_check_study(series))]
     for n, steps in enumerate(_orders(series, each_order)):
-        out.append(rf"\paragraph{{{_heading(n)[1]}}}")
+        out.append(rf"\paragraph{{{_heading(n, series)[1]}}}")
         out.append(steps[0].title[1])
         out.append(r"\begin{align*}")
         rows = []
@@ -380,7 +416,7 @@ def derivation_latex(series: Series, *, each_order: Callable[[], object] | None 
             if i:
                 rows.append(rf"\intertext{{{step.title[1]}}}")
             rows += _latex_rows(step.rows)
-        if n <= PAPER_ORDER:
+        if n <= PAPER_ORDER and series.is_eq26:
             rows[0] += rf" \tag{{{EQUATIONS[n]}}}"
         out += [row if row.startswith(r"\intertext") or i == len(rows) - 1 else row + r"\\"
                 for i, row in enumerate(rows)]

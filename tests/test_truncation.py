@@ -252,11 +252,25 @@ def test_the_engines_of_a_consistent_response_agree():
         assert np.array_equal(a.valid, b.valid)
 
 
-def test_derivation_study_refuses_a_consistent_series():
-    from perturb import derivation_text
+def test_the_derivation_study_of_a_consistent_series():
+    """Step by step in the engine's names: its b_2 is the series' closed form (the phase
+    of u_1's harmonic 2 written as the study writes it, psi_1_2 + theta_2)."""
+    from perturb import _series_symbols as sym
+    from perturb import derivation_latex, derivation_text
 
-    with pytest.raises(ValueError, match="`series` must be Eq. 2.6's"):
-        derivation_text(derive(2))
+    series = derive(2, parameters=contact(1.5, 0.5))
+    text = derivation_text(series)
+    assert "in the engine's names" in text and "(Eq. 2." not in text
+    line = next(x for x in text.splitlines() if x.strip().startswith("b_2 = "))
+    study = sp.sympify(line.split("=", 1)[1], locals={
+        name: sp.Symbol(name, real=True) for name in
+        ("A_0_1", "A_1_0", "A_1_2", "phi_0_1", "psi_1_2", "theta_2", "h", "k_3", "d_1",
+         "d_2", "Omega")})
+    closed = series.b_closed_form(2).subs(sym.phase(1, 2), sp.Symbol("psi_1_2", real=True)
+                                          + sp.Symbol("theta_2", real=True))
+    names = {s: sp.Symbol(str(s), real=True) for s in closed.free_symbols}
+    assert sp.simplify(study - closed.xreplace(names)) == 0
+    assert r"\tag{" not in derivation_latex(series)
 
 
 # -- printing --------------------------------------------------------------------------

@@ -340,3 +340,13 @@ def test_backbone_frequency_is_nan_past_contact_loss():
     found = series.frequency_at_app_hz(exact.app_m)
     assert np.isfinite(found[0]) and not exact.contact_lost[0]
     assert np.isnan(found[1]) and exact.contact_lost[1]
+
+
+def test_a_derivation_scene_derives_the_series_of_its_truncation():
+    from numerics.scenes import parse_scene, run_scene
+
+    text = '{}[model]\nm2 = 1.5\n[study]\nkind = "derivation"\norder = 2\n'
+    consistent = run_scene(parse_scene(text.format("")))
+    paper = run_scene(parse_scene(text.format('effects = "eq26"\n')))
+    assert "k_3" in consistent.text and consistent.effects["spring"] == "power"
+    assert "in the paper's names" in paper.text and "k_3" not in paper.text

@@ -135,7 +135,8 @@ STUDIES: dict[str, Study] = {
         {"order": Option("int", 8, 1, 40), "points": Option("int", 200, 2, 10**5),
          "truncation": _TRUNCATION},
         ("app",), ("app",), ("backbone",)),
-    "derivation": Study({"order": Option("int", 4, 0, 12)}, (), (), ()),
+    "derivation": Study({"order": Option("int", 4, 0, 12), "truncation": _TRUNCATION},
+                        (), (), ()),
     "natural_frequency": Study({"points": Option("int", 100, 2, 10**5)}, (), (),
                                ("natural_frequency",)),
     "comparison": Study(
@@ -170,10 +171,12 @@ STUDIES: dict[str, Study] = {
 _DEFAULT_EFFECTS = {"analytic_response": "eq26", "derivation": "eq26", "comparison": "full",
                     "natural_frequency": "eq26"}
 _FIXED_WHY = {"analytic_response": "solves the series of Eq. 2.6 (truncation = \"paper\")",
-              "derivation": "derives the series of Eq. 2.6",
+              "derivation": "derives the series of Eq. 2.6 (truncation = \"paper\")",
               "natural_frequency": "is f_n0 of Eq. 2.6 in closed form",
               "comparison": "compares the series with RK4 of Eq. 2.6 and of the full model"}
 
+#: The studies of one series, whose effects follow its truncation.
+_SERIES_KINDS = ("analytic_response", "derivation")
 _CONSISTENT_WHY = ("solves the consistent series of the contact's own equation in contact; "
                    "truncation = \"paper\" solves Eq. 2.6's on effects \"eq26\"")
 
@@ -181,7 +184,7 @@ _CONSISTENT_WHY = ("solves the consistent series of the contact's own equation i
 def _fixed_effects(kind: str, options: dict) -> str | None:
     """The effects a study fixes: the analytic response's follow its truncation (Eq. 2.6's
     series: "eq26"; the consistent series of the contact's own laws: "full")."""
-    if kind == "analytic_response" and options.get("truncation") == "consistent":
+    if kind in _SERIES_KINDS and options.get("truncation") == "consistent":
         return "full"
     return _DEFAULT_EFFECTS.get(kind)
 
@@ -349,7 +352,7 @@ class _Reader:
         options = self.options(kind, study, study_table)
         overrides = self.model(data.get("model", {}))
         parameters = self.parameters(overrides)
-        if (kind == "analytic_response" and data.get("effects") == "eq26"
+        if (kind in _SERIES_KINDS and data.get("effects") == "eq26"
                 and "truncation" not in study_table):
             options = {**options, "truncation": "paper"}  # Eq. 2.6's model: its series
         fixed = _fixed_effects(kind, options)

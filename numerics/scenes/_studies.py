@@ -128,7 +128,7 @@ def _backbone(scene, model, grid, quiet) -> StudyRun:
 def _derivation(scene, model, grid, quiet) -> StudyRun:
     from perturb import derivation_text, derive
 
-    series = derive(scene.options["order"], "paper")
+    series = derive(scene.options["order"], scene.options["truncation"], model.parameters)
     return StudyRun([], "the symbolic derivation (sympy)", text=derivation_text(series))
 
 

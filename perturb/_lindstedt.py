@@ -90,7 +90,8 @@ def _right_side(order: int, solutions: list[tuple[int, ...]], has_b: list[bool],
                 products: _Products) -> list[Term]:
     """sum_{k=1..n-1} b_k u_{n-k} - h sum_{i+j=n-1} u_i u_j (without b_n u0), and the
     terms of the equation in contact that Eq. 2.6 leaves out, where the truncation keeps
-    them: - k_j (u^j)_(n-j+1) for j >= 3 and - d_j (u^j u')_(n-j) for j >= 1."""
+    them: - k_j (u^j)_(n-j+1) for j >= 3 and - d_j (u^j u')_(n-j) for j >= 1 (h u^2 is
+    k_2's)."""
     terms: list[Term] = []
     for k in range(1, order):
         if has_b[k]:
@@ -99,14 +100,8 @@ def _right_side(order: int, solutions: list[tuple[int, ...]], has_b: list[bool],
                 for m in solutions[order - k]
             ]
     spring, damping = products.degrees
-    if spring >= 2:  # Eq. 2.9, 2.10, A.1, A.2: - h sum_{i+j=n-1} u_i u_j
-        for i in range(order):
-            j = order - 1 - i
-            for ki in solutions[i]:
-                for kj in solutions[j]:
-                    pair = multiply(solution_term(i, ki), solution_term(j, kj))
-                    terms += [p.scaled(Fraction(-1), coefficients=(("k", 2),)) for p in pair]
-    for j in range(3, min(spring, order + 1) + 1):
+    # j = 2: - h sum_{i+j=n-1} u_i u_j, Eq. 2.9, 2.10, A.1, A.2.
+    for j in range(2, min(spring, order + 1) + 1):
         terms += [p.scaled(Fraction(-1), coefficients=(("k", j),))
                   for p in products.power(j, order - j + 1)]
     for j in range(1, min(damping, order) + 1):

@@ -26,8 +26,8 @@ Truncation(name='paper', spring_degree=2, damping_degree=0)
 >>> from perturb._parameters import ContactParameters
 >>> truncation_for("consistent", ContactParameters(m2=1.5, l=0.5))
 Truncation(name='consistent', spring_degree=None, damping_degree=None)
->>> [round(x, 6) for x in coefficient_values(("k", "d"), (4, 2), ContactParameters(m2=3.0))]
-[0.0, 0.0]
+>>> series_values(ContactParameters(m2=3.0)).coefficients((("k", 4), ("d", 2)))
+(0.0, 0.0)
 """
 
 from __future__ import annotations
@@ -37,9 +37,8 @@ from dataclasses import dataclass
 from ._numbers import Eq26Numbers, eq26_numbers
 from ._parameters import PAPER, ContactParameters
 
-__all__ = ["Truncation", "TRUNCATIONS", "truncation_for", "coefficient_values",
-           "binomial", "coefficient_closed_form", "SeriesValues", "series_values",
-           "measures_model_distance"]
+__all__ = ["Truncation", "TRUNCATIONS", "truncation_for", "binomial", "coefficient_closed_form",
+           "SeriesValues", "series_values", "measures_model_distance"]
 
 #: The truncations by name: "consistent" (every term up to the order) and "paper" (Eq. 2.6).
 TRUNCATIONS = ("consistent", "paper")
@@ -119,32 +118,12 @@ def measures_model_distance(order: int, parameters: ContactParameters) -> bool:
     return not truncation_for("consistent", parameters).keeps_eq26_only(order + 2)
 
 
-
 def binomial(exponent: float, j: int) -> float:
     """binom(exponent, j) = exponent (exponent - 1) ... (exponent - j + 1) / j!."""
     value = 1.0
     for i in range(j):
         value *= (exponent - i) / (i + 1)
     return value
-
-
-def coefficient_values(kinds: tuple[str, ...], indices: tuple[int, ...],
-                       parameters: ContactParameters, y0_m: float | None = None) -> list[float]:
-    """k_j and d_j at ``parameters``, in closed form (the module's docstring), without sympy.
-
-    ``kinds[i]`` is "k" or "d" and ``indices[i]`` its j; ``y0_m`` the static deflection
-    (computed from the parameters when not given). tests/test_truncation.py holds these
-    against the Taylor coefficients that sympy derives from ``ContactModel``.
-    """
-    p = parameters
-    y0 = (p.M * p.g / (p.S * p.c_n)) ** (1 / p.m2) if y0_m is None else y0_m
-    values = []
-    for kind, j in zip(kinds, indices):
-        if kind == "k":
-            values.append(p.S * p.c_n / p.M * binomial(p.m2, j) * y0 ** (p.m2 - j))
-        else:
-            values.append(p.S * p.h_n / p.M * binomial(p.l, j) * y0 ** (p.l - j))
-    return [0.0 if v == 0 else float(v) for v in values]
 
 
 def coefficient_closed_form(kind: str, j: int):
@@ -173,11 +152,20 @@ class SeriesValues(Eq26Numbers):
     parameters: ContactParameters = PAPER
 
     def coefficients(self, names: tuple[tuple[str, int], ...]) -> tuple[float, ...]:
-        """The values of ``names`` (("k", j) or ("d", j)), in order; h is Eq. 2.6's own."""
-        values = coefficient_values(tuple(kind for kind, _ in names),
-                                    tuple(j for _, j in names), self.parameters, self.y0_m)
-        return tuple(self.h_per_m_s2 if name == ("k", 2) else value
-                     for name, value in zip(names, values))
+        """The values of ``names`` (("k", j) or ("d", j)), in order, in closed form (the
+        module's docstring), without sympy; h is Eq. 2.6's own number.
+        tests/test_truncation.py holds them against the Taylor coefficients that sympy
+        derives from ``ContactModel``."""
+        return tuple(self.h_per_m_s2 if name == ("k", 2) else self._value(*name)
+                     for name in names)
+
+    def _value(self, kind: str, j: int) -> float:
+        p, y0 = self.parameters, self.y0_m
+        if kind == "k":
+            value = p.S * p.c_n / p.M * binomial(p.m2, j) * y0 ** (p.m2 - j)
+        else:
+            value = p.S * p.h_n / p.M * binomial(p.l, j) * y0 ** (p.l - j)
+        return 0.0 if value == 0 else float(value)
 
 
 def series_values(parameters: ContactParameters = PAPER) -> SeriesValues:

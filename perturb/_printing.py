@@ -195,11 +195,15 @@ def _heading(series: Series) -> list[str]:
     return lines
 
 
+def _kept_terms(series: Series, u: sp.Symbol, du: sp.Symbol) -> list[sp.Expr]:
+    """k_j u^j and d_j u^j u' for each coefficient the series keeps (h u^2 first)."""
+    return [sym.coefficient(kind, j) * u**j * (du if kind == "d" else 1)
+            for kind, j in series.coefficients]
+
+
 def _equation_text(series: Series) -> sp.Expr:
     u, du, ddu = sp.symbols("u u' u''")
-    terms = [ddu, 2 * sym.c * du, sym.omega0**2 * u]
-    terms += [sym.coefficient(kind, j) * u**j * (du if kind == "d" else 1)
-              for kind, j in series.coefficients]
+    terms = [ddu, 2 * sym.c * du, sym.omega0**2 * u, *_kept_terms(series, u, du)]
     return sp.Add(*terms, evaluate=False)
 
 
@@ -208,12 +212,10 @@ def _consistent_latex_heading(series: Series) -> list[str]:
     from ._truncation import coefficient_closed_form
 
     u, du = sp.Symbol("u"), sp.Symbol("udot")  # sorts after u: d_1 u \dot u
-    extra = sp.Add(*(sym.coefficient(kind, j) * u**j * (du if kind == "d" else 1)
-                     for kind, j in series.coefficients))
+    extra = sp.Add(*_kept_terms(series, u, du))
     extra_latex = sp.latex(extra, symbol_names={**latex_names(extra), du: r"\dot u"})
-    rows = [rf"{_latex(left)} &= {_latex(coefficient_closed_form(kind, j))}"
-            for left, (kind, j) in zip([sym.coefficient(*c) for c in series.coefficients],
-                                       series.coefficients)]
+    rows = [rf"{_latex(sym.coefficient(kind, j))} &= {_latex(coefficient_closed_form(kind, j))}"
+            for kind, j in series.coefficients]
     return [
         rf"% Perturbation series of the equation in contact to order {series.order}, "
         rf"{series.truncation.name} truncation (perturb derive)",

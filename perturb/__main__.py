@@ -77,8 +77,8 @@ def _derive(args: argparse.Namespace) -> None:
     parameters = model_parameters(args)
     # The derivation study is the paper's (Eq. 2.6 in its names) unless told otherwise.
     truncation = args.truncation or ("paper" if args.steps else "consistent")
-    growing = truncation_for(truncation, parameters).spring_degree is None or \
-        truncation_for(truncation, parameters).damping_degree is None
+    kept = truncation_for(truncation, parameters)
+    growing = None in (kept.spring_degree, kept.damping_degree)  # sums that do not end
     if growing and args.order > SLOW_GROWING_ORDER:
         note(f"order {args.order}: the consistent series of a law that is no polynomial "
              "gains terms at every order, and its closed forms grow some 2.5x an order "

@@ -120,10 +120,6 @@ TITLES = {
 }
 
 
-def _check_study(series) -> Series:
-    return _check_series(series)
-
-
 class _Derivation:
     """Builds the steps of each order, the lower orders' solutions in their display names."""
 
@@ -357,7 +353,7 @@ def derivation_text(series: Series, *, each_order: Callable[[], object] | None =
     Order eps^2 (Eq. 2.10)
         b2 = A1*h*cos(phi1) + 2*A2*h
     """
-    lines = _preamble(_check_study(series))
+    lines = _preamble(_check_series(series))
     for n, steps in enumerate(_orders(series, each_order)):
         lines.append(_heading(n, series)[0])
         for step in steps:
@@ -406,7 +402,7 @@ def derivation_latex(series: Series, *, each_order: Callable[[], object] | None 
     >>> print(tex[tex.index(r"\ddot u_{1}"):].splitlines()[0])
     \ddot u_{1} + 2c\,\dot u_{1} + \omega^2 u_{1} &= b_{1} u_{0} - h u_{0}^{2} \tag{2.9}\\
     """
-    out = [rf"% {line}" for line in _preamble(_check_study(series))]
+    out = [rf"% {line}" for line in _preamble(_check_series(series))]
     for n, steps in enumerate(_orders(series, each_order)):
         out.append(rf"\paragraph{{{_heading(n, series)[1]}}}")
         out.append(steps[0].title[1])

@@ -22,7 +22,7 @@ from common import (
     result,
 )
 from perturb import PAPER, PAPER_BAND_HZ, ContactModel, ContactParameters, frequency_response
-from perturb._truncation import truncation_for
+from perturb._truncation import truncation_for, truncation_settings
 
 from ._compare_backbone import BackboneComparison, compare_backbones
 from ._compare_response import (
@@ -214,7 +214,7 @@ def compare(
     settings = {"orders": list(orders), "pa_frac": list(pa_frac),
                 "steps_per_period": steps_per_period, "tolerance": tolerance,
                 "models": {name: asdict(effects) for name, effects in MODELS.items()},
-                **({} if truncation == "paper" else {"truncation": truncation})}
+                **truncation_settings(truncation)}
     return Comparison(model=ContactModel(parameters).as_dict(), settings=settings,
                       backbone=backbone, curves=curves, responses=responses, frequency_hz=grid,
                       tolerance=tolerance, elapsed_s=time.perf_counter() - start)

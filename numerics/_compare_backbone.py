@@ -19,6 +19,7 @@ import numpy as np
 
 from common import Result, check_int, check_positive, result
 from perturb import ContactModel, backbone_series, eq26_numbers
+from perturb._truncation import truncation_settings
 
 from ._backbone import exact_backbone
 
@@ -183,7 +184,6 @@ def compare_backbones(
         limit_a1_m=np.minimum(crossing_a1, loss_a1), limit_app_m=np.minimum(crossing_app, loss_app),
         crossing_a1_m=crossing_a1, crossing_app_m=crossing_app,
         contact_loss_app_m=loss_app, tolerance=tolerance, model=model.as_dict(),
-        settings={"points": points, **{key: backbones[0].settings[key] for key in
-                                        ("truncation",) if key in backbones[0].settings}},
+        settings={"points": points, **truncation_settings(truncation)},
         elapsed_s=time.perf_counter() - start,
     )

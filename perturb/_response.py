@@ -56,7 +56,13 @@ from ._model import ContactModel
 from ._numbers import Eq26Numbers
 from ._parameters import PAPER, ContactParameters
 from ._response_codegen import NEXT_ORDERS, series_kernels, series_kernels_built
-from ._truncation import Truncation, measures_model_distance, series_values, truncation_for
+from ._truncation import (
+    Truncation,
+    measures_model_distance,
+    series_values,
+    truncation_for,
+    truncation_settings,
+)
 
 __all__ = ["frequency_response", "Response", "Branch"]
 
@@ -404,8 +410,7 @@ def frequency_response(
         model=_series_model(parameters, resolved),
         settings={"omega_range": list(omega_range), "grid_points": grid_points,
                   "samples": samples, "tolerance": tolerance,
-                  # Eq. 2.6's series as it always was; its model's effects say so too.
-                  **({} if resolved.name == "paper" else {"truncation": resolved.name})},
+                  **truncation_settings(resolved.name)},
         elapsed_s=time.perf_counter() - start,
     )
 

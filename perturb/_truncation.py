@@ -38,7 +38,7 @@ from ._numbers import Eq26Numbers, eq26_numbers
 from ._parameters import PAPER, ContactParameters
 
 __all__ = ["Truncation", "TRUNCATIONS", "truncation_for", "binomial", "coefficient_closed_form",
-           "SeriesValues", "series_values", "measures_model_distance"]
+           "SeriesValues", "series_values", "measures_model_distance", "truncation_settings"]
 
 #: The truncations by name: "consistent" (every term up to the order) and "paper" (Eq. 2.6).
 TRUNCATIONS = ("consistent", "paper")
@@ -107,6 +107,13 @@ def truncation_for(name: str | Truncation, parameters: ContactParameters = PAPER
         return PAPER_TRUNCATION
     return Truncation("consistent", _polynomial_degree(parameters.m2),
                       _polynomial_degree(parameters.l))
+
+
+def truncation_settings(name: str) -> dict[str, str]:
+    """The ``settings`` entry a result records for the truncation ``name``: none for the
+    paper's, so that Eq. 2.6's results read as they always did (their model's effects,
+    ``EQ_2_6``, say it), ``{"truncation": name}`` otherwise."""
+    return {} if name == "paper" else {"truncation": name}
 
 
 def measures_model_distance(order: int, parameters: ContactParameters) -> bool:

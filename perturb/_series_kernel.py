@@ -299,9 +299,7 @@ class KernelSeries(NumericSeries):
     def _lanes(self, A0, omega, Omega, c, *coefficients):
         """(shape, A0, omega, Omega, c flat and contiguous, k_coef, d_coef) as the kernel
         takes them; None if a coefficient varies over the lanes."""
-        if len(coefficients) != len(self.coefficients):
-            raise ValueError(f"expected {len(self.coefficients)} coefficients "
-                             f"{self.arguments[4:]}, got {len(coefficients)}.")
+        self._check_count(coefficients)
         values = [np.asarray(x, dtype=float) for x in coefficients]
         constants = [_constant(x) for x in values]
         if any(x is None for x in constants):

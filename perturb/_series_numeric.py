@@ -77,9 +77,7 @@ class NumericSeries(SeriesFormulas):
                  c: npt.ArrayLike, *coefficients: npt.ArrayLike,
                  until: str | None = None) -> dict[str, np.ndarray]:
         """Run the scheme; every value by the names of ``CompiledSeries.evaluate``."""
-        if len(coefficients) != len(self.coefficients):
-            raise ValueError(f"expected {len(self.coefficients)} coefficients "
-                             f"{self.arguments[4:]}, got {len(coefficients)}.")
+        self._check_count(coefficients)
         A0, omega, Omega, c, *coefs = np.broadcast_arrays(
             *(np.asarray(a, dtype=float) for a in (A0, omega, Omega, c, *coefficients)))
         shape = A0.shape
@@ -134,6 +132,12 @@ class NumericSeries(SeriesFormulas):
             du.append(self._samples(z * derivative))
         env["z_0_1"] = env["A_0_1"] = A0.reshape(shape)
         return env
+
+    def _check_count(self, coefficients: tuple) -> None:
+        """A ValueError unless there is one value per entry of ``coefficients``."""
+        if len(coefficients) != len(self.coefficients):
+            raise ValueError(f"expected {len(self.coefficients)} coefficients "
+                             f"{self.arguments[4:]}, got {len(coefficients)}.")
 
     def _samples(self, z: np.ndarray) -> np.ndarray:
         """u = sum_k Re(z_k exp(i k theta)) at the S phases theta (lanes, S)."""

@@ -57,6 +57,7 @@ from ._numbers import Eq26Numbers
 from ._parameters import PAPER, ContactParameters
 from ._response_codegen import NEXT_ORDERS, series_kernels, series_kernels_built
 from ._truncation import (
+    SeriesValues,
     Truncation,
     measures_model_distance,
     series_values,
@@ -232,12 +233,13 @@ class _Roots:
 
 def _at_roots(kernels, values: Eq26Numbers, G: float, omega, Omega) -> _Roots:
     """A0 = G H_1(omega) (Eq. 2.8), the harmonics of orders N, N+1, N+2 and the lag
-    at the roots ``omega``."""
+    at the roots ``omega`` (``kernels``: the compiled kernels of one order)."""
     transfer = omega**2 - Omega**2 + 2j * values.c_per_s * Omega
     a0 = G / np.abs(transfer)
     shape = (1 + len(NEXT_ORDERS), kernels.TOP_HARMONIC + 1, omega.size)
     real, imag = np.empty(shape), np.empty(shape)
-    kernels.harmonics_lanes(a0, omega, Omega, values.c_per_s, values.h_per_m_s2, real, imag)
+    kernels.harmonics_lanes(a0, omega, Omega, values.c_per_s, _k_d(kernels, values), real,
+                            imag)
     return _Roots(omega, a0, real, imag, -np.angle(transfer))
 
 
@@ -275,7 +277,7 @@ def truncation_error(kernels, values, G, Omega, rows, base: _Roots, app, tables)
             if later is None:
                 omega, found = kernels.nearby_roots(
                     G, Omega_r, base.omega, _match_distance(rows, base.omega, values.c_per_s),
-                    values.c_per_s, values.h_per_m_s2, values.omega0_rad_s)
+                    values.c_per_s, _k_d(kernels, values), values.omega0_rad_s)
                 later = _at_roots(kernels, values, G, omega, Omega_r), found
             other, matched = later
         change = np.empty(n)
@@ -344,14 +346,15 @@ def frequency_response(
         App (``truncation_error``). It bounds the change of App; and the
         response must keep contact (y0 + min u > 0, Eq. 2.1).
     engine : {"auto", "compiled", "numpy"}
-        "compiled": the order's compiled kernels (built once per order and cache,
-        10-20 s; then some 10x faster than numpy); "numpy": the residual grid in
-        numpy (no build); "auto": compiled where the order's kernels are built,
-        numpy otherwise. Both give the same branches, roots (within 1e-13) and
-        validity. A series that keeps more of the equation in contact than Eq. 2.6
-        has the numpy route's root search, its formulas the scheme compiled once for
-        every order ("compiled", "auto": ``KernelSeries``) or in numpy ("numpy":
-        ``NumericSeries``).
+        "compiled": the compiled kernels of the order and of the terms the series
+        keeps (built once per cache: tens of seconds for Eq. 2.6's series, up to
+        minutes for a consistent series that keeps every k_j and d_j; then some 10x
+        faster than numpy); "numpy": the residual grid in numpy (no build); "auto":
+        compiled where those kernels are built, numpy otherwise. They give the same
+        branches, roots (within 1e-12) and validity. The numpy route evaluates
+        Eq. 2.6's series by its lambdified closed forms, and any other series by the
+        scheme compiled once for every order (``KernelSeries``) under "auto", or by
+        the scheme in numpy (``NumericSeries``) under "numpy".
     truncation : {"consistent", "paper"}
         "consistent": every term k_j u^j and d_j u^j u' of the contact's equation up
         to eps^N (``derive``); "paper": Eq. 2.6 (h and linear damping). The error
@@ -420,21 +423,22 @@ ENGINES = ("auto", "compiled", "numpy")
 
 
 def _chunk_solver(engine: str, order: int, truncation: Truncation):
-    """The chunk solver of ``engine``. Eq. 2.6's series: "auto" takes the compiled
-    kernels only where the order's are built already (building them costs 10-20 s once;
-    numpy needs none). Any other series is solved by the numpy route, its formulas the
-    scheme's numba kernel ("compiled", "auto": compiled once for every order and
-    truncation) or the scheme in numpy ("numpy")."""
-    eq26 = truncation.keeps_eq26_only(order + 2)
+    """The chunk solver of ``engine``: "compiled", the kernels of the order and of the
+    terms the truncation keeps (generated and compiled once, then cached); "numpy", the
+    numpy route; "auto", the compiled kernels where they are built already, the numpy
+    route otherwise. The numpy route of Eq. 2.6's series evaluates its lambdified closed
+    forms; that of any other series, the scheme's numba kernel (``KernelSeries``,
+    compiled once for every order and truncation) under "auto" and the scheme in numpy
+    under "numpy"."""
     from ._response_numpy import solve_chunk
 
-    if not eq26:
-        return partial(solve_chunk, truncation=truncation, compiled=engine != "numpy")
     if engine == "auto":
-        engine = "compiled" if series_kernels_built(order) else "numpy"
+        engine = "compiled" if series_kernels_built(order, truncation) else "auto"
     if engine == "compiled":
         return partial(_solve_chunk, truncation=truncation)
-    return partial(solve_chunk, truncation=truncation)
+    if truncation.keeps_eq26_only(order + NEXT_ORDERS[-1]):
+        return partial(solve_chunk, truncation=truncation)
+    return partial(solve_chunk, truncation=truncation, compiled=engine == "auto")
 
 
 def _chunks(size: int, chunk: int) -> list[slice]:
@@ -445,7 +449,7 @@ def _solve_chunk(values, G, Omega, order, omega_range, grid_points, samples, tol
                  offset: int, truncation: Truncation) -> tuple[np.ndarray, ...]:
     """Every root of the frequencies ``Omega``, with App, extrema, validity and error;
     rows count from ``offset``."""
-    kernels = series_kernels(order)
+    kernels = series_kernels(order, truncation)
     rows, roots = _roots(kernels, values, G, Omega, omega_range, grid_points)
     base = _at_roots(kernels, values, G, roots, Omega[rows])
     tables = _phase_tables(kernels.TOP_HARMONIC + 1, samples)
@@ -498,7 +502,12 @@ def _roots(kernels, values, G, Omega, omega_range, grid_points):
     lo, hi = omega_range[0] * values.omega0_rad_s, omega_range[1] * values.omega0_rad_s
     return kernels.find_roots(G, Omega, np.linspace(lo, hi, grid_points),
                               values.c_per_s * _RESONANCE_OFFSETS, kernels.ORDER + 1, lo, hi,
-                              values.c_per_s, values.h_per_m_s2, values.omega0_rad_s)
+                              values.c_per_s, _k_d(kernels, values), values.omega0_rad_s)
+
+
+def _k_d(kernels, values: SeriesValues) -> np.ndarray:
+    """The coefficients k_j, d_j of the contact that ``kernels`` take, in their order."""
+    return np.array(values.coefficients(kernels.COEFFICIENTS), dtype=float)
 
 
 def _branches(freq, rows, roots, a0, u_min, u_max, valid, error) -> list[Branch]:

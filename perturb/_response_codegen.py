@@ -43,8 +43,9 @@ from ._cache import (
     machine_code_index,
     usable_cache_dir,
 )
+from ._truncation import PAPER_TRUNCATION, Truncation
 
-__all__ = ["series_kernels", "series_kernels_built", "series_source"]
+__all__ = ["kernel_truncation", "series_kernels", "series_kernels_built", "series_source"]
 
 _HERE = Path(__file__).parent
 _TEMPLATE = _HERE / "_response_template.py"
@@ -223,14 +224,13 @@ def _negative(a: str | None) -> str | None:
     return a[1:] if a.startswith("-") else f"-{a}"
 
 
-def _chain_program(order: int):
+def _chain_program(order: int, truncation: Truncation):
     """The program of the whole chain of the order-N series, and the series."""
     from . import _series_symbols as sym
-    from ._compiled import ARGUMENTS, complex_chain
-    from ._lindstedt import derive
+    from ._compiled import chain_arguments, complex_chain
 
-    series = derive(order, "paper")
-    program = _Program(ARGUMENTS)
+    series = _series(order, truncation)
+    program = _Program(chain_arguments(series.coefficients))
     for symbol, expr in complex_chain(series):
         value = program.expression(expr)
         name = str(symbol)
@@ -244,48 +244,70 @@ def _chain_program(order: int):
     return program, series
 
 
+def _series(order: int, truncation: Truncation):
+    from ._lindstedt import derive
+
+    return derive(order, truncation)
+
+
+def kernel_truncation(order: int, truncation: Truncation) -> Truncation:
+    """The truncation whose kernels serve a response of ``order``: Eq. 2.6's where the
+    series of orders N..N+2 keep its terms only, else ``truncation``'s terms at order
+    N+2 (the kernels of two contacts with the same terms are the same: the values of
+    k_j, d_j are arguments)."""
+    if truncation.keeps_eq26_only(order + NEXT_ORDERS[-1]):
+        return PAPER_TRUNCATION
+    return Truncation("consistent", *truncation.at_order(order + NEXT_ORDERS[-1]))
+
+
 #: Orders past N whose waveforms estimate the error of order N (``truncation_error``).
 NEXT_ORDERS = (1, 2)
 
 
-def series_source(order: int) -> str:
-    """Python source of the generated kernels of the order-N response.
+def series_source(order: int, truncation: Truncation = PAPER_TRUNCATION) -> str:
+    """Python source of the generated kernels of the order-N response of ``truncation``
+    (``kernel_truncation``: the terms it keeps at order N+2).
 
     One chain, that of order N+2, serves the orders N, N+1, N+2 (the first
     terms of a series do not depend on where it stops):
 
-    - ``residual_lanes(G, omega, Omega, c, h, omega0, out)``: the residual of
-      order N's frequency equation at every lane (omega[i], Omega[i]);
+    - ``residual_lanes(G, omega, Omega, c, k_d, omega0, out)``: the residual of
+      order N's frequency equation at every lane (omega[i], Omega[i]); ``k_d`` holds
+      the equation's coefficients that the series keeps, h first (``COEFFICIENTS``);
     - ``residual_lanes_next(...)``: the same with every b_n up to N+2, the
       frequency equation of the later of orders N+1, N+2 that has its own
       (b_n = 0 for odd n, so one of the two shares order N's);
-    - ``harmonics_lanes(a0, omega, Omega, c, h, out_re, out_im)``: the real
+    - ``harmonics_lanes(a0, omega, Omega, c, k_d, out_re, out_im)``: the real
       and imaginary parts of sum_(n <= N+m) z_n_k at lane i in out[m, k, i],
       m = 0, 1, 2;
 
     and the constants ``ORDER``, ``B_ORDERS`` (the n of the non-zero b_n of
-    orders N, N+1, N+2) and ``TOP_HARMONIC``. Each function has the chain
+    orders N, N+1, N+2), ``TOP_HARMONIC`` and ``COEFFICIENTS`` (the (kind, j) of the
+    entries of ``k_d``). Each function has the chain
     written out (numba takes about as long to inline a function as to compile
     it); the residuals' loops run in SIMD.
     """
     from . import _series_symbols as sym
     from ._compiled import series_b_orders, series_keys
-    from ._lindstedt import derive
 
+    kept = kernel_truncation(order, truncation)
     orders = (order, *(order + m for m in NEXT_ORDERS))
-    program, series = _chain_program(orders[-1])
-    b_orders = tuple(series_b_orders(derive(n, "paper")) for n in orders)
+    program, series = _chain_program(orders[-1], kept)
+    b_orders = tuple(series_b_orders(_series(n, kept)) for n in orders)
     if b_orders[1] not in (b_orders[0], b_orders[2]):  # b_n = 0 at odd n: cannot happen
         raise RuntimeError(f"orders {orders} have three frequency equations: {b_orders}")
     keys = series_keys(series)
     jit = '@numba.njit(cache=True, error_model="numpy")'
+    # The coefficients past c are r4, r5, ... (``chain_arguments``), read from k_d.
+    unpack = "".join(f"    r{4 + i} = k_d[{i}]\n" for i in range(len(series.coefficients)))
 
     def residual_source(name: str, b_up_to: tuple[int, ...]) -> str:
         # Eq. 2.7: omega^2 - omega0^2 = sum_n b_n, by increasing n; A0 = G H_1 (Eq. 2.8).
         b_values = [program.memo[sym.b(n)] for n in b_up_to]
         shift = program.total(b_values, program.add) if b_values else program.constant(0.0)
         return program.function(
-            f"{jit}\ndef {name}(G, omega, Omega, r3, r4, omega0, out):  # c, h\n"
+            f"{jit}\ndef {name}(G, omega, Omega, r3, k_d, omega0, out):  # r3: c\n"
+            f"{unpack}"
             "    for lane in range(omega.size):\n"
             "        r1, r2 = omega[lane], Omega[lane]\n"
             "        x, y = r1 * r1 - r2 * r2, 2.0 * r3 * r2\n"
@@ -307,42 +329,57 @@ def series_source(order: int) -> str:
             stores.append(f"out_im[{m}, {k}, lane] = {imag or 0.0}")
             totals.append(total)
     harmonics = program.function(
-        f"{jit}\ndef harmonics_lanes(a0, omega, Omega, r3, r4, out_re, out_im):  # c, h\n"
+        f"{jit}\ndef harmonics_lanes(a0, omega, Omega, r3, k_d, out_re, out_im):  # r3: c\n"
+        f"{unpack}"
         "    for lane in range(a0.size):\n"
         "        r0, r1, r2 = a0[lane], omega[lane], Omega[lane]",
         totals, stores, indent=" " * 8)
-    return (f"ORDER = {order}\nB_ORDERS = {b_orders!r}\nTOP_HARMONIC = {top}\n\n\n"
+    return (f"ORDER = {order}\nB_ORDERS = {b_orders!r}\nTOP_HARMONIC = {top}\n"
+            f"COEFFICIENTS = {series.coefficients!r}\n\n\n"
             f"{residual_source('residual_lanes', b_orders[0])}\n\n"
             f"{residual_source('residual_lanes_next', b_orders[-1])}\n\n{harmonics}")
 
 
-def _module_source(order: int) -> str:
+def _module_source(order: int, kept: Truncation) -> str:
     template = _TEMPLATE.read_text()
     imports_end = template.index("# fmt: off")
-    return (f"# Generated by perturb._response_codegen (order {order}): do not edit.\n"
-            + template[:imports_end] + series_source(order) + "\n\n"
+    return (f"# Generated by perturb._response_codegen (order {order}, {_label(kept)}): "
+            "do not edit.\n"
+            + template[:imports_end] + series_source(order, kept) + "\n\n"
             + template[imports_end:])
 
 
-def series_kernels(order: int) -> ModuleType:
-    """The compiled kernels of the order-N series (generated once, then cached)."""
+def _label(kept: Truncation) -> str:
+    if kept == PAPER_TRUNCATION:
+        return "Eq. 2.6"
+    return f"k_j to j = {kept.spring_degree}, d_j to j = {kept.damping_degree}"
+
+
+def series_kernels(order: int, truncation: Truncation = PAPER_TRUNCATION) -> ModuleType:
+    """The compiled kernels of the order-N series of ``truncation`` (generated once, then
+    cached; one module serves every contact whose series keeps the same terms)."""
+    kept = kernel_truncation(order, truncation)
     with _LOCK:
-        if order not in _LOADED:
-            _LOADED[order] = _load(order)
-        return _LOADED[order]
+        if (order, kept) not in _LOADED:
+            _LOADED[order, kept] = _load(order, kept)
+        return _LOADED[order, kept]
 
 
-def series_kernels_built(order: int) -> bool:
-    """Whether the order's kernels are loaded, or generated, intact and compiled in the
-    cache (numba's index files beside the module: its machine code is there)."""
-    if order in _LOADED:
+def series_kernels_built(order: int, truncation: Truncation = PAPER_TRUNCATION) -> bool:
+    """Whether the kernels of the order and truncation are loaded, or generated, intact
+    and compiled in the cache (numba's index files beside the module: its machine code
+    is there)."""
+    kept = kernel_truncation(order, truncation)
+    if (order, kept) in _LOADED:
         return True
-    path = _path(order)
+    path = _path(order, kept)
     return intact(path) and machine_code_index(path) is not None
 
 
-def _path(order: int) -> Path:
-    return usable_cache_dir() / f"series_{cache_key(('series', order), _SOURCES)}.py"
+def _path(order: int, kept: Truncation) -> Path:
+    key = ("series", order) if kept == PAPER_TRUNCATION else (
+        "series", order, kept.spring_degree, kept.damping_degree)
+    return usable_cache_dir() / f"series_{cache_key(key, _SOURCES)}.py"
 
 
 def _smoke(module: ModuleType) -> None:
@@ -356,20 +393,21 @@ def _smoke(module: ModuleType) -> None:
     import numpy as np
 
     one = np.ones(1)
+    k_d = np.ones(len(module.COEFFICIENTS))
     shape = (1 + len(NEXT_ORDERS), module.TOP_HARMONIC + 1, 1)
     real, imag = np.zeros(shape), np.zeros(shape)
     tables = (np.ones((shape[1], 4)), np.zeros((shape[1], 4)))
     module.find_roots(1.0, 1e3 * one, np.linspace(5e2, 2e3, 3), np.zeros(2), module.ORDER + 1,
-                      5e2, 2e3, 1.0, 1.0, 1e3)
-    module.nearby_roots(1.0, one, one, one, 1.0, 1.0, 1.0)
-    module.harmonics_lanes(one, one, one, 1.0, 1.0, real, imag)
+                      5e2, 2e3, 1.0, k_d, 1e3)
+    module.nearby_roots(1.0, one, one, one, 1.0, k_d, 1.0)
+    module.harmonics_lanes(one, one, one, 1.0, k_d, real, imag)
     module.waveform_extrema(real[0], imag[0], one, *tables, one.copy(), one.copy())
     module.change_peak_to_peak(real[1], imag[1], one, real[0], imag[0], one, *tables, one.copy())
 
 
-def _load(order: int) -> ModuleType:
-    """The module of order N, written, compiled and loaded by ``_cache.load_generated``
-    (a damaged file or numba cache: rebuilt once)."""
-    path = _path(order)
-    return load_generated(path, f"_contact_{path.stem}", lambda: _module_source(order),
+def _load(order: int, kept: Truncation) -> ModuleType:
+    """The module of order N and truncation ``kept``, written, compiled and loaded by
+    ``_cache.load_generated`` (a damaged file or numba cache: rebuilt once)."""
+    path = _path(order, kept)
+    return load_generated(path, f"_contact_{path.stem}", lambda: _module_source(order, kept),
                           _smoke)

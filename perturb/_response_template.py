@@ -2,8 +2,11 @@
 
 ``perturb._response_codegen`` appends this file's text to the generated
 ``residual_lanes``, ``residual_lanes_next`` and ``harmonics_lanes`` of one
-order N of the series and compiles the result with numba; so this file is
-never imported on its own, and those three are defined by the generated part.
+order N and one truncation of the series and compiles the result with numba; so
+this file is never imported on its own, and those three are defined by the
+generated part. ``k_d`` is the array of the coefficients k_j, d_j of the
+equation in contact that the series keeps (h alone for Eq. 2.6), in the order of
+the generated module's ``COEFFICIENTS``: they reach the compiled code at run time.
 
 The frequency equation of Eq. 2.7, with A0 = G H_1(omega) (Eq. 2.8), is
 
@@ -64,7 +67,7 @@ def _fill_grid(Omega, uniform, offsets, resonances, lo, hi, near, grid):
 
 
 @numba.njit(inline="always", **_JIT)
-def _grid_residual(G, Omega, uniform, offsets, resonances, lo, hi, c, h, omega0, first,
+def _grid_residual(G, Omega, uniform, offsets, resonances, lo, hi, c, k_d, omega0, first,
                    grid, lanes, lane_Omega, values, near, f):
     """The grid and its residual for the frequencies Omega[first:first + rows], one
     row after another in the flat buffers (rows = grid.size // points).
@@ -83,7 +86,7 @@ def _grid_residual(G, Omega, uniform, offsets, resonances, lo, hi, c, h, omega0,
         for j in range(a, b + 1):
             lanes[n], lane_Omega[n] = grid[j], W
             n += 1
-    residual_lanes(G, lanes[:n], lane_Omega[:n], c, h, omega0, values[:n])  # noqa: F821
+    residual_lanes(G, lanes[:n], lane_Omega[:n], c, k_d, omega0, values[:n])  # noqa: F821
     n = 0
     for row in range(rows):
         start, end = row * points, row * points + points - 1
@@ -119,9 +122,9 @@ def _take(values, index):
 
 
 @numba.njit(inline="always", **_JIT)
-def _residual_at(G, omega, active, Omega, c, h, omega0, out):
+def _residual_at(G, omega, active, Omega, c, k_d, omega0, out):
     """out[q] = residual of order N's frequency equation at omega[q], Omega[active[q]]."""
-    residual_lanes(G, omega, _take(Omega, active), c, h, omega0, out)  # noqa: F821
+    residual_lanes(G, omega, _take(Omega, active), c, k_d, omega0, out)  # noqa: F821
 
 
 @numba.njit(**_JIT)
@@ -136,7 +139,7 @@ def _still(active, done):
 
 
 @numba.njit(inline="always", **_JIT)
-def illinois(G, Omega, c, h, omega0, lo, hi, f_lo, f_hi, iterations=80):
+def illinois(G, Omega, c, k_d, omega0, lo, hi, f_lo, f_hi, iterations=80):
     """The root in each bracket [lo, hi] (where the residual changes sign, at
     frequency Omega[i]) by the Illinois method, all brackets in step.
 
@@ -153,7 +156,7 @@ def illinois(G, Omega, c, h, omega0, lo, hi, f_lo, f_hi, iterations=80):
             break
         for q, i in enumerate(active):
             x[q] = (lo[i] * f_hi[i] - hi[i] * f_lo[i]) / (f_hi[i] - f_lo[i])
-        _residual_at(G, x[:active.size], active, Omega, c, h, omega0, fx)
+        _residual_at(G, x[:active.size], active, Omega, c, k_d, omega0, fx)
         for q, i in enumerate(active):
             if np.sign(fx[q]) == np.sign(f_lo[i]):
                 lo[i], f_lo[i] = x[q], fx[q]
@@ -174,7 +177,7 @@ def illinois(G, Omega, c, h, omega0, lo, hi, f_lo, f_hi, iterations=80):
 
 
 @numba.njit(inline="always", **_JIT)
-def golden_dips(G, Omega, c, h, omega0, lo, mid, hi, f_lo, f_mid, f_hi, iterations=48):
+def golden_dips(G, Omega, c, k_d, omega0, lo, mid, hi, f_lo, f_mid, f_hi, iterations=48):
     """Golden-section search of each dip of |residual| towards zero, all in step.
 
     With g = residual times the sign of the three grid values (positive at lo,
@@ -198,7 +201,7 @@ def golden_dips(G, Omega, c, h, omega0, lo, mid, hi, f_lo, f_mid, f_hi, iteratio
             right[q] = (hi[i] - mid[i]) > (mid[i] - lo[i])
             x[q] = (mid[i] + _GOLDEN * (hi[i] - mid[i]) if right[q]
                     else mid[i] - _GOLDEN * (mid[i] - lo[i]))
-        _residual_at(G, x[:active.size], active, Omega, c, h, omega0, gx)
+        _residual_at(G, x[:active.size], active, Omega, c, k_d, omega0, gx)
         for q, i in enumerate(active):
             g = sign[i] * gx[q]
             if g < g_mid[i]:  # the probe becomes mid, the old mid an end
@@ -227,7 +230,7 @@ def _negative(x):
 
 
 @numba.njit(inline="always", **_JIT)
-def _scan_grids(G, Omega, uniform, offsets, resonances, lo, hi, c, h, omega0, b_row, bracket,
+def _scan_grids(G, Omega, uniform, offsets, resonances, lo, hi, c, k_d, omega0, b_row, bracket,
                 d_row, dip):
     """Evaluate every frequency's grid, ``_GRID_ROWS`` frequencies at a time in buffers
     that stay in the cache, and keep (returns their numbers):
@@ -244,7 +247,7 @@ def _scan_grids(G, Omega, uniform, offsets, resonances, lo, hi, c, h, omega0, b_
     n = dips = 0
     for first in range(0, Omega.size, _GRID_ROWS):
         size = min(_GRID_ROWS, Omega.size - first) * points
-        _grid_residual(G, Omega, uniform, offsets, resonances, lo, hi, c, h, omega0, first,
+        _grid_residual(G, Omega, uniform, offsets, resonances, lo, hi, c, k_d, omega0, first,
                        grid[:size], lanes, lane_Omega, values, near, f[:size])
         for start in range(0, size, points):
             row = first + start // points
@@ -265,7 +268,7 @@ def _scan_grids(G, Omega, uniform, offsets, resonances, lo, hi, c, h, omega0, b_
 
 
 @numba.njit(**_JIT)
-def find_roots(G, Omega, uniform, offsets, resonances, lo, hi, c, h, omega0):
+def find_roots(G, Omega, uniform, offsets, resonances, lo, hi, c, k_d, omega0):
     """Every root omega at the frequencies Omega: (rows, roots), rows indexing Omega.
 
     Sign changes of the residual on each frequency's grid are brackets; so are
@@ -280,9 +283,9 @@ def find_roots(G, Omega, uniform, offsets, resonances, lo, hi, c, h, omega0):
     bracket = (np.empty(most), np.empty(most), np.empty(most), np.empty(most))
     dip = (np.empty(most), np.empty(most), np.empty(most), np.empty(most), np.empty(most),
            np.empty(most))
-    n, dips = _scan_grids(G, Omega, uniform, offsets, resonances, lo, hi, c, h, omega0, b_row,
+    n, dips = _scan_grids(G, Omega, uniform, offsets, resonances, lo, hi, c, k_d, omega0, b_row,
                           bracket, d_row, dip)
-    crossed = golden_dips(G, _take(Omega, d_row[:dips]), c, h, omega0, dip[0][:dips],
+    crossed = golden_dips(G, _take(Omega, d_row[:dips]), c, k_d, omega0, dip[0][:dips],
                           dip[1][:dips], dip[2][:dips], dip[3][:dips], dip[4][:dips],
                           dip[5][:dips])
     for q in range(dips):  # a root pair, in [lo, mid] and [mid, hi]
@@ -292,13 +295,13 @@ def find_roots(G, Omega, uniform, offsets, resonances, lo, hi, c, h, omega0):
                 bracket[0][n], bracket[1][n] = dip[side][q], dip[side + 1][q]
                 bracket[2][n], bracket[3][n] = dip[3 + side][q], dip[4 + side][q]
                 n += 1
-    roots = illinois(G, _take(Omega, b_row[:n]), c, h, omega0, bracket[0][:n],
+    roots = illinois(G, _take(Omega, b_row[:n]), c, k_d, omega0, bracket[0][:n],
                      bracket[1][:n], bracket[2][:n], bracket[3][:n])
     return b_row[:n].copy(), roots
 
 
 @numba.njit(**_JIT)
-def nearby_roots(G, Omega, start, distance, c, h, omega0, iterations=30):
+def nearby_roots(G, Omega, start, distance, c, k_d, omega0, iterations=30):
     """The root of the frequency equation with every b_n up to N+2 reached by secant
     steps from each ``start`` (at frequency Omega[i]), all in step, and whether it
     was found within ``distance`` of it (a lane whose steps leave that window, or
@@ -306,8 +309,8 @@ def nearby_roots(G, Omega, start, distance, c, h, omega0, iterations=30):
     n = start.size
     x0, x1 = start.copy(), start + 1e-3 * distance
     f0, f1 = np.empty(n), np.empty(n)
-    residual_lanes_next(G, x0, Omega, c, h, omega0, f0)  # noqa: F821
-    residual_lanes_next(G, x1, Omega, c, h, omega0, f1)  # noqa: F821
+    residual_lanes_next(G, x0, Omega, c, k_d, omega0, f0)  # noqa: F821
+    residual_lanes_next(G, x1, Omega, c, k_d, omega0, f1)  # noqa: F821
     found = np.zeros(n, dtype=np.bool_)
     active = np.arange(n)
     x, fx, done = np.empty(n), np.empty(n), np.empty(n, dtype=np.bool_)
@@ -320,7 +323,7 @@ def nearby_roots(G, Omega, start, distance, c, h, omega0, iterations=30):
             outside[q] = not np.isfinite(step) or abs(step - start[i]) > distance[i]
             x[q] = x1[i] if outside[q] else step
         W = _take(Omega, active)
-        residual_lanes_next(G, x[:active.size], W, c, h, omega0, fx)  # noqa: F821
+        residual_lanes_next(G, x[:active.size], W, c, k_d, omega0, fx)  # noqa: F821
         for q, i in enumerate(active):
             x0[i], f0[i], x1[i], f1[i] = x1[i], f1[i], x[q], fx[q]
             converged = abs(x1[i] - x0[i]) <= 1e-12 * x1[i] or f1[i] == 0

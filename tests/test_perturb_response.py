@@ -386,14 +386,14 @@ def test_the_generated_code_is_the_lambdified_series(order):
     G, c, h = 0.2 * VALUES.Q_n * VALUES.G_per_P_a, VALUES.c_per_s, VALUES.h_per_m_s2
     kernels = series_kernels(order)
     residual = np.empty(omega.size)
-    kernels.residual_lanes(G, omega, Omega, c, h, VALUES.omega0_rad_s, residual)
+    kernels.residual_lanes(G, omega, Omega, c, np.array([h]), VALUES.omega0_rad_s, residual)
     a0 = G / np.hypot(omega**2 - Omega**2, 2 * c * Omega)
     shift = compile_series(order).frequency_shift(a0, omega, Omega, c, h)
     # Measured: at most 2.6e-13 relative (orders 0-8).
     np.testing.assert_allclose(residual, omega**2 - VALUES.omega0_rad_s**2 - shift, rtol=2e-12)
     shape = (3, kernels.TOP_HARMONIC + 1, omega.size)
     real, imag = np.empty(shape), np.empty(shape)
-    kernels.harmonics_lanes(a0, omega, Omega, c, h, real, imag)
+    kernels.harmonics_lanes(a0, omega, Omega, c, np.array([h]), real, imag)
     for m in range(3):  # orders N, N+1, N+2
         series = compile_series(order + m)
         expected = series.harmonics(series.amplitudes(a0, omega, Omega, c, h))

@@ -15,6 +15,7 @@ from perturb import (
     PAPER,
     ContactModel,
     ContactParameters,
+    _response,
     backbone_series,
     derive,
     eq26_numbers,
@@ -23,6 +24,7 @@ from perturb import (
 )
 from perturb._backbone_series import power_law_backbone_coefficients
 from perturb._compiled import compile_series, lambdify_chain
+from perturb._response_codegen import series_kernels
 from perturb._series_numeric import NumericSeries
 from perturb._symbols import m2 as m2_symbol
 from perturb._truncation import (
@@ -239,17 +241,60 @@ def test_bad_truncation_names_the_argument():
             call()
 
 
-def test_the_engines_of_a_consistent_response_agree():
-    """The scheme's numba kernel and the scheme in numpy: the same roots and flags."""
-    parameters = contact(1.5, 0.5)
-    frequency = np.linspace(1200.0, 1320.0, 13)
-    fast, slow = (frequency_response(frequency, 0.04, 6, parameters=parameters, engine=e)
-                  for e in ("compiled", "numpy"))
-    assert len(fast.branches) == len(slow.branches)
-    for a, b in zip(fast.branches, slow.branches):
-        np.testing.assert_allclose(a.omega_rad_s, b.omega_rad_s, rtol=1e-12)
-        np.testing.assert_allclose(a.app_m, b.app_m, rtol=1e-9)
-        assert np.array_equal(a.valid, b.valid)
+@pytest.mark.parametrize("parameters", [PAPER, contact(1.5, 0.5)])
+def test_the_engines_of_a_consistent_response_agree(parameters, monkeypatch):
+    """Three routes: the generated kernels of the order and terms ("compiled"), the
+    numpy root search on the scheme's numba kernel ("auto" before those are built) and
+    on the scheme in numpy ("numpy"): the same branches, roots and flags."""
+    f_n0 = eq26_numbers(parameters).f_n0_hz
+    frequency = np.linspace(0.93 * f_n0, 0.99 * f_n0, 13)
+    compiled = frequency_response(frequency, 0.06, 3, parameters=parameters,
+                                  engine="compiled")
+    monkeypatch.setattr(_response, "series_kernels_built", lambda *args: False)
+    routes = [compiled, *(frequency_response(frequency, 0.06, 3, parameters=parameters,
+                                             engine=e) for e in ("auto", "numpy"))]
+    assert max(len(r.branches) for r in routes) >= 3  # the bent peak: three roots
+    for other in routes[1:]:
+        assert len(other.branches) == len(routes[0].branches)
+        for a, b in zip(routes[0].branches, other.branches):
+            np.testing.assert_array_equal(a.frequency_hz, b.frequency_hz)
+            np.testing.assert_allclose(a.omega_rad_s, b.omega_rad_s, rtol=1e-12)
+            np.testing.assert_allclose(a.app_m, b.app_m, rtol=1e-9)
+            assert np.array_equal(a.valid, b.valid)
+
+
+@pytest.mark.parametrize("parameters", [PAPER, contact(1.5, 0.5)])
+def test_the_generated_kernels_of_a_consistent_series_are_the_scheme(parameters):
+    """The straight-line code generated from the closed forms against the scheme in
+    numpy, at random points: the residual of the frequency equation and the harmonics
+    of orders N, N+1, N+2."""
+    order = 3
+    truncation = truncation_for("consistent", parameters)
+    values = series_values(parameters)
+    kernels = series_kernels(order, truncation)
+    k_d = np.array(values.coefficients(kernels.COEFFICIENTS))
+    rng = np.random.default_rng(5)
+    omega = rng.uniform(0.6, 1.2, 500) * values.omega0_rad_s
+    Omega = rng.uniform(0.3, 1.3, 500) * values.omega0_rad_s
+    G, c = 0.1 * values.Q_n * values.G_per_P_a, values.c_per_s
+    a0 = G / np.hypot(omega**2 - Omega**2, 2 * c * Omega)
+    residual = np.empty(omega.size)
+    kernels.residual_lanes(G, omega, Omega, c, k_d, values.omega0_rad_s, residual)
+    scheme = NumericSeries(order, truncation)
+    shift = scheme.frequency_shift(a0, omega, Omega, c, *values.coefficients(
+        scheme.coefficients))
+    np.testing.assert_allclose(residual, omega**2 - values.omega0_rad_s**2 - shift,
+                               rtol=1e-11)
+    shape = (3, kernels.TOP_HARMONIC + 1, omega.size)
+    real, imag = np.empty(shape), np.empty(shape)
+    kernels.harmonics_lanes(a0, omega, Omega, c, k_d, real, imag)
+    for m in range(3):
+        later = NumericSeries(order + m, truncation)
+        expected = later.harmonics(later.amplitudes(a0, omega, Omega, c, *values.coefficients(
+            later.coefficients)))
+        got = (real[m] + 1j * imag[m]).T
+        np.testing.assert_allclose(got[:, :expected.shape[1]], expected, rtol=0,
+                                   atol=1e-11 * np.abs(expected).max())
 
 
 def test_the_derivation_study_of_a_consistent_series():

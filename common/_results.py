@@ -64,7 +64,7 @@ class Result:
 
     def to_json(self, path: str | Path) -> None:
         """Write ``as_dict()`` to ``path`` (UTF-8, strict JSON)."""
-        write_json(path, self.as_dict())
+        write_json(path, self)  # as_dict() once: its lists are not walked again
 
     @classmethod
     def from_dict(cls, data: dict):

@@ -33,11 +33,12 @@ import shutil
 import stat
 import sys
 import tempfile
-import threading
 import warnings
 from collections.abc import Callable, Iterable
 from pathlib import Path
 from types import ModuleType
+
+from common._files import write_atomically
 
 __all__ = ["CacheWarning", "cache_dir", "usable_cache_dir", "cache_key", "write_atomically",
            "MODEL_SOURCES", "SERIES_SOURCES", "load_generated", "write_generated", "intact",
@@ -132,21 +133,6 @@ def cache_key(values: object, sources: Iterable[Path]) -> str:
     of ``sources``: a change to any of them gives a new key (old files are left)."""
     text = repr(values) + _sympy_release() + "".join(Path(p).read_text() for p in sources)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
-
-
-def write_atomically(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file and a rename, so that a
-    parallel process never reads half a file. If the write fails (a full disk, text
-    that cannot be encoded), the temporary file is removed and the error raised."""
-    # Process and thread: two threads of one process (compile_series has no lock) must
-    # not share a temporary file.
-    tmp = path.with_suffix(f".tmp{os.getpid()}-{threading.get_ident()}")
-    try:
-        tmp.write_text(text)
-        tmp.replace(path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
 
 
 def _checksum(body: str) -> str:

@@ -9,6 +9,7 @@ later process reads eight floats instead of importing sympy and deriving them.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import warnings
@@ -108,12 +109,15 @@ def _numbers(parameters: ContactParameters) -> Eq26Numbers:
 
 def _read(path: Path, parameters: ContactParameters) -> Eq26Numbers | None:
     """The numbers stored at ``path`` for ``parameters``, or None when the file is
-    missing, unreadable, truncated, or holds anything else than eight finite floats
-    for exactly these parameters (it is then derived and written again)."""
+    missing, unreadable, truncated, edited (its checksum does not match), or holds
+    anything else than eight finite floats for exactly these parameters (it is then
+    derived and written again)."""
     try:
         record = json.loads(path.read_text())
         numbers = record["numbers"]
         names = [f.name for f in fields(Eq26Numbers)]
+        if record["sha256"] != _checksum(record["parameters"], numbers):
+            return None
         if record["parameters"] != parameters.as_dict() or list(numbers) != names:
             return None
         if not all(type(x) is float and math.isfinite(x) for x in numbers.values()):
@@ -123,8 +127,16 @@ def _read(path: Path, parameters: ContactParameters) -> Eq26Numbers | None:
         return None
 
 
+def _checksum(parameters: dict, numbers: dict) -> str:
+    """SHA-256 of the record's data in a canonical text (floats by their shortest repr,
+    which reads back to the same bits)."""
+    text = json.dumps({"parameters": parameters, "numbers": numbers}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
 def _write(path: Path, parameters: ContactParameters, numbers: Eq26Numbers) -> None:
-    record = {"parameters": parameters.as_dict(), "numbers": numbers.as_dict()}
+    data = {"parameters": parameters.as_dict(), "numbers": numbers.as_dict()}
+    record = {**data, "sha256": _checksum(**data)}
     try:
         write_atomically(path, json.dumps(record, indent=1) + "\n")
     except OSError as error:  # a full disk: the numbers are still right, only not kept

@@ -174,7 +174,8 @@ def test_numbers_are_keyed_by_the_parameters_and_kernels_by_the_effects_too(fres
     assert len(keys) == 2
 
 
-@pytest.mark.parametrize("damage", ["truncated", "emptied", "other parameters", "not finite"])
+@pytest.mark.parametrize("damage", ["truncated", "emptied", "other parameters", "not finite",
+                                    "one digit of y0 edited"])
 def test_a_damaged_numbers_file_is_derived_again(damage, fresh_numbers):
     expected = eq26_numbers(OTHER)
     path = _numbers.numbers_path(OTHER)
@@ -184,6 +185,11 @@ def test_a_damaged_numbers_file_is_derived_again(damage, fresh_numbers):
         record["parameters"]["M"] *= 2
     if damage == "not finite":
         record["numbers"]["y0_m"] = None
+    if damage == "one digit of y0 edited":  # a finite float, for these parameters: only
+        digits = repr(record["numbers"]["y0_m"])  # the checksum tells
+        record["numbers"]["y0_m"] = float(digits[:3] + str((int(digits[3]) + 1) % 10)
+                                          + digits[4:])
+        assert record["numbers"]["y0_m"] != expected.y0_m
     broken = {"truncated": text[: len(text) // 2], "emptied": ""}.get(damage, json.dumps(record))
     path.write_text(broken)
     _numbers._numbers.cache_clear()

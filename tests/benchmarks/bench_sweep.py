@@ -12,11 +12,13 @@ Baselines, measured in the same run:
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
 import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -85,6 +87,17 @@ def in_one_thread(job):
     return run
 
 
+def _json_seconds(result) -> tuple[float, float]:
+    """Medians, in turns: ``to_json`` of the job's result, and the text the json module
+    gives with an indent (the pure-Python encoder) of the same data."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "job.json"
+        return interleaved_medians(
+            lambda: result.to_json(path),
+            lambda: json.dumps(result.as_dict(), indent=1, allow_nan=False,
+                               ensure_ascii=False), repeats=5)
+
+
 def main() -> None:
     # engine="compiled": the default "auto" takes it only once its driver is built.
     job = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS, engine="compiled")  # noqa: E731
@@ -118,6 +131,9 @@ def main() -> None:
         higher_is_better=False)
     row("cold start: import + compile + job [s] vs Python-driven", cold, cold_python, "s",
         higher_is_better=False)
+    written, indented = _json_seconds(result)
+    row("writing its JSON [s] (goal 0.3) vs the json module with an indent", written,
+        indented, "s", higher_is_better=False)
     row("goals: warm [s], cold [s]", 1.0, None)
     row("", 15.0, None)
     print(f"brute force: {BRUTE['periods']} periods x {BRUTE['steps']} steps, two runs timed "

@@ -1,0 +1,72 @@
+"""The one JSON writer: strict, identical on reload, and quick on a large result."""
+
+import json
+import math
+import statistics
+import time
+
+import numpy as np
+import pytest
+
+from common import load
+from common._json import dumps, write_json
+from numerics import sweep
+from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS
+
+
+def test_non_finite_numbers_are_null_and_the_text_is_strict():
+    text = dumps({"kind": "x", "a": np.array([1.0, np.nan, np.inf]),
+                  "b": np.array([[1.0, -np.inf], [2.0, 3.0]]), "c": float("nan")})
+    data = json.loads(text, parse_constant=lambda name: pytest.fail(f"{name} in strict JSON"))
+    assert data == {"kind": "x", "a": [1.0, None, None], "b": [[1.0, None], [2.0, 3.0]],
+                    "c": None}
+    assert text.count("\n") == 5  # one top-level key a line
+
+
+def test_values_round_trip_to_the_last_bit():
+    values = np.array([0.1, 1 / 3, 5e-324, 1.7976931348623157e308, -0.0])
+    back = json.loads(dumps({"v": values}))["v"]
+    assert [math.copysign(1, x) for x in back] == [1, 1, 1, 1, -1]
+    np.testing.assert_array_equal(np.array(back), values)
+
+
+def test_the_fig2_and_3_job_writes_quickly_and_reloads_identical(tmp_path):
+    job = sweep(np.linspace(*PAPER_BAND_HZ, 311), PAPER_PANEL_FRACTIONS)
+    path = tmp_path / "job.json"
+
+    def seconds(call) -> float:
+        times = []
+        for _ in range(3):
+            start = time.perf_counter()
+            call()
+            times.append(time.perf_counter() - start)
+        return statistics.median(times)
+
+    ours = seconds(lambda: job.to_json(path))
+    indented = seconds(lambda: json.dumps(job.as_dict(), indent=1, allow_nan=False))
+    # Measured 0.16 s against 0.59 s (make bench: the goal of 0.3 s, beside it); a ratio,
+    # so that a loaded machine does not decide.
+    assert ours <= 0.6 * indented, (ours, indented)
+    again = tmp_path / "again.json"
+    write_json(again, load(path))
+    assert again.read_text() == path.read_text()
+
+
+def test_a_result_file_replaces_a_symlink_and_never_writes_through_it(tmp_path):
+    outside = tmp_path / "outside.txt"
+    outside.write_text("keep me")
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "run.json").symlink_to(outside)
+    write_json(out / "run.json", {"kind": "x", "a": [1.0]})
+    assert outside.read_text() == "keep me"
+    assert not (out / "run.json").is_symlink()
+    assert json.loads((out / "run.json").read_text()) == {"kind": "x", "a": [1.0]}
+
+
+def test_a_failed_write_leaves_the_old_file_and_no_debris(tmp_path):
+    path = tmp_path / "run.json"
+    path.write_text("old")
+    with pytest.raises(UnicodeEncodeError):  # the temporary file is opened, then the
+        write_json(path, {"kind": "a lone surrogate \ud800"})  # text cannot be encoded
+    assert [p.name for p in tmp_path.iterdir()] == ["run.json"] and path.read_text() == "old"

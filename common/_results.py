@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ._json import jsonable, write_json
+from ._status import Status
 
 __all__ = ["Result", "result", "load", "from_dict", "RESULT_CLASSES"]
 
@@ -33,7 +34,15 @@ _PACKAGES = ("perturb", "numerics")
 
 
 class Result:
-    """Base of the result classes: summary, short repr, strict JSON and its way back."""
+    """Base of the result classes: summary, short repr, strict JSON and its way back.
+
+    A result that is a table of lanes (points) names the field that counts them in
+    ``LANES``; ``from_dict`` then checks that every other array field has as many rows,
+    except those in ``NOT_PER_LANE``.
+    """
+
+    LANES = None  # the name of the field whose length is the number of lanes
+    NOT_PER_LANE: tuple[str, ...] = ()
 
     def summary(self) -> str:
         """One line: what the result holds and how long it took."""
@@ -75,7 +84,45 @@ class Result:
             raise ValueError(f"{cls.__name__} data lacks the key(s) {missing}.")
         values = {f.name: _decode(hints[f.name], data[f.name]) for f in fields(cls)
                   if f.name in data}
+        _check_values(cls, values)
         return cls(**values)
+
+
+def _check_values(cls, values: dict) -> None:
+    """Refuse values that no result of ``cls`` holds: a status that is no ``Status``, a
+    negative App, a frequency that is not positive, lanes of different lengths."""
+    name = cls.__name__
+    for key, value in values.items():
+        if not isinstance(value, np.ndarray):
+            continue
+        if key == "status":
+            codes = {int(s) for s in Status}
+            if value.dtype.kind not in "iu" or not set(np.unique(value).tolist()) <= codes:
+                raise ValueError(f"{name}: `status` must hold the integer codes {sorted(codes)}"
+                                 f" of common.Status, got {_sample(value)}.")
+        if key.endswith("app_m") or key == "frequency_hz":
+            if value.dtype.kind not in "iuf":
+                raise ValueError(f"{name}: `{key}` must hold numbers, got {_sample(value)}.")
+            bad = np.isfinite(value) & ((value < 0) if key.endswith("app_m") else (value <= 0))
+            if bad.any():
+                limit = ">= 0" if key.endswith("app_m") else "> 0"
+                raise ValueError(f"{name}: `{key}` must be {limit}, got {_sample(value[bad])}.")
+    if cls.LANES is None or not isinstance(values.get(cls.LANES), np.ndarray):
+        return
+    lanes = len(values[cls.LANES])
+    for key, value in values.items():
+        if key in cls.NOT_PER_LANE or not isinstance(value, (np.ndarray, list)):
+            continue
+        if np.ndim(value) if isinstance(value, np.ndarray) else True:
+            if len(value) != lanes:
+                raise ValueError(f"{name}: `{key}` has {len(value)} rows where "
+                                 f"`{cls.LANES}` has {lanes} lanes.")
+
+
+def _sample(value: np.ndarray) -> str:
+    """The first entries of ``value``, for a message."""
+    shown = np.ravel(value)[:3].tolist()
+    return f"{shown}{' ...' if np.size(value) > 3 else ''}"
 
 
 def _required(f) -> bool:
@@ -173,4 +220,13 @@ def load(path: str | Path):
             data = json.load(handle)
         except json.JSONDecodeError as error:
             raise ValueError(f"{str(path)!r} is not JSON: {error}") from None
-    return from_dict(data)
+        except UnicodeDecodeError:
+            raise ValueError(f"{str(path)!r} is not JSON: not UTF-8 text.") from None
+        except RecursionError:
+            raise ValueError(f"{str(path)!r} is not a result: nested too deep.") from None
+    try:
+        return from_dict(data)
+    except (ValueError, TypeError, KeyError, IndexError, AttributeError) as error:
+        raise ValueError(f"{str(path)!r} is not a result of this toolkit: {error}") from None
+    except RecursionError:
+        raise ValueError(f"{str(path)!r} is not a result: nested too deep.") from None

@@ -82,6 +82,8 @@ class Backbone(Result):
         Wall time [s].
     """
 
+    LANES = "frequency_hz"  # a table of lanes: every array has one row per lane
+
     u_max_m: np.ndarray
     ymin_m: np.ndarray
     ymax_m: np.ndarray

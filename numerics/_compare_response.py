@@ -55,6 +55,8 @@ class SteadyCurve(Orbits):
     the same grid (increasing frequency in both halves).
     """
 
+    NOT_PER_LANE = ("notes",)
+
     model_name: str
     pa_frac: float
     direction: np.ndarray
@@ -103,6 +105,9 @@ class ResponseComparison(Result):
     peaks : list of PeakCheck
         The primary, 1/2 and 1/3 superharmonic peaks (Eq. 3.1).
     """
+
+    LANES = "frequency_hz"  # a table of lanes: every array has one row per lane
+    NOT_PER_LANE = ("peaks",)
 
     model_name: str
     pa_frac: float

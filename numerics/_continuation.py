@@ -198,6 +198,8 @@ class ContinuedBranch(Result):
         Why the branch ended early ("" when it reached the end).
     """
 
+    LANES = "frequency_hz"  # a table of lanes: every array has one row per lane
+
     frequency_hz: np.ndarray
     app_m: np.ndarray
     stable: np.ndarray

@@ -131,6 +131,8 @@ class FoldCurve(Result):
         Why an end stopped inside the box.
     """
 
+    LANES = "frequency_hz"  # a table of lanes: every array has one row per lane
+
     resonance: int
     frequency_hz: np.ndarray
     pa_frac: np.ndarray

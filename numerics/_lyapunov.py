@@ -82,6 +82,8 @@ class LyapunovExponents(Result):
         The state at the end of the run (to continue it).
     """
 
+    LANES = "frequency_hz"  # a table of lanes: every array has one row per lane
+
     frequency_hz: np.ndarray
     pa_frac: np.ndarray
     exponent_per_s: np.ndarray

@@ -58,6 +58,8 @@ class Orbits(Result):
         y after every step of one orbit (kept when asked for: the census).
     """
 
+    LANES = "frequency_hz"  # a table of lanes: every array has one row per lane
+
     frequency_hz: np.ndarray
     p_a_n: np.ndarray
     status: np.ndarray

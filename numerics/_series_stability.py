@@ -70,6 +70,8 @@ class SeriesBranchStability(Result):
     ``stable`` (derived, in the JSON too): True, False, or None where unknown.
     """
 
+    LANES = "frequency_hz"  # a table of lanes: every array has one row per lane
+
     frequency_hz: np.ndarray
     app_m: np.ndarray
     multipliers: np.ndarray

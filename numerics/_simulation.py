@@ -38,6 +38,9 @@ class Simulation(Result):
         The time history (with "history").
     """
 
+    LANES = "frequency_hz"  # a table of lanes: every array has one row per lane
+    NOT_PER_LANE = ("history_phase",)  # the phases of the recorded steps
+
     frequency_hz: np.ndarray
     p_a_n: np.ndarray
     model: dict

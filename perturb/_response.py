@@ -107,6 +107,8 @@ class Branch(Result):
         those orders matches.
     """
 
+    LANES = "frequency_hz"  # a table of lanes: every array has one row per lane
+
     frequency_hz: np.ndarray
     app_m: np.ndarray
     a0_m: np.ndarray

@@ -34,8 +34,12 @@ DIRECTIONS = ("up", "down", "both")
 #: "auto" takes the compiled call where its driver is built for the model (building it
 #: costs tens of seconds once per model: a saving only after dozens of sweeps).
 ENGINES = ("auto", "compiled", "python")
-#: A step in App by more than this factor between neighbouring points is a jump.
+#: A step in App by more than this factor between neighbouring points is a candidate
+#: jump: ``sweep`` checks whether it leaves the branch (``_left_branch``).
 JUMP_RATIO = 1.3
+#: The relative App within which the orbit of point i, followed back to point i-1's
+#: frequency, is the orbit of point i-1 (the same branch).
+SAME_BRANCH_RTOL = 0.01
 #: The most steady states one sweep computes (points x amplitudes x directions): about
 #: 12,000 are found per second at the paper's settings, so this is a minute or two.
 MAX_STATES = 1_000_000
@@ -43,17 +47,24 @@ MAX_STATES = 1_000_000
 
 @result
 class SweepRun(Orbits):
-    """One amplitude swept in one direction: the ``Orbits`` columns, in the order swept."""
+    """One amplitude swept in one direction: the ``Orbits`` columns, in the order swept.
+
+    ``jumped[i]``: the sweep left its branch between points i-1 and i (checked by
+    ``sweep``: the orbit of point i, followed back to the frequency of point i-1, is
+    not the orbit of point i-1); None where no check was made.
+    """
 
     pa_frac: float
     direction: str
+    jumped: np.ndarray | None = None
 
     def jumps(self, ratio: float = JUMP_RATIO) -> list[int]:
-        """Indices i where App jumps by more than ``ratio`` from point i-1 to i."""
-        app = self.app_m
-        with np.errstate(divide="ignore", invalid="ignore"):
-            change = np.maximum(app[1:] / app[:-1], app[:-1] / app[1:])
-        return (np.flatnonzero(change > ratio) + 1).tolist()
+        """Indices i where the sweep jumps from point i-1 to i: where it left its branch
+        (``jumped``), or, for a run without that check, where App changes by more than
+        ``ratio``."""
+        if self.jumped is not None:
+            return np.flatnonzero(self.jumped).tolist()
+        return _candidates(self.app_m, ratio).tolist()
 
     def summary(self) -> str:
         return (f"SweepRun: P_a = {self.pa_frac:g} Q {self.direction}, {self.status.size} "
@@ -165,12 +176,52 @@ def sweep(
                  **points.take(np.arange(i, points.status.size, len(lanes))).columns())
         for i, (frac, d) in enumerate(lanes)
     ]
+    _check_jumps(runs, model, steps_per_period=steps_per_period, tol=tol,
+                 app_rtol=app_rtol, max_periods=max_periods, method=method,
+                 refinements=refinements)
     settings = {"frequency_hz": grid.tolist(), "pa_frac": fracs.tolist(), "direction": direction,
                 "steps_per_period": steps_per_period, "tol": tol, "app_rtol": app_rtol,
                 "max_periods": max_periods,
                 "method": method, "refinements": refinements, "keep_orbits": keep_orbits}
     return Sweep(model=model.as_dict(), settings=settings, runs=runs,
                  elapsed_s=time.perf_counter() - start)
+
+
+def _candidates(app: np.ndarray, ratio: float = JUMP_RATIO) -> np.ndarray:
+    """Indices i where App changes by more than ``ratio`` from point i-1 to i."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        change = np.maximum(app[1:] / app[:-1], app[:-1] / app[1:])
+    return np.flatnonzero(change > ratio) + 1
+
+
+def _check_jumps(runs: list[SweepRun], model: ContactModel, **accuracy) -> None:
+    """Set ``jumped`` on every run: at each candidate step (App changes by more than
+    ``JUMP_RATIO``) between two orbits (settled or under-resolved), the orbit of point i
+    is followed back to the frequency of point i-1, all in one ``steady_states`` call. A
+    fold lies between the points, and the sweep left its branch, unless that lands on
+    the orbit of point i-1 (same period, App within ``SAME_BRANCH_RTOL``). A smooth
+    curve on a coarse grid changes by more than the ratio at every step of a peak and
+    has no jump; a sweep over a fold has one wherever the grid puts it.
+    """
+    steps = []  # (run, i)
+    for r, run in enumerate(runs):
+        good = run.settled | (run.status == Status.UNDER_RESOLVED)
+        run.jumped = np.zeros(run.status.size, dtype=bool)
+        steps += [(r, int(i)) for i in _candidates(run.app_m) if good[i] and good[i - 1]]
+    if not steps:
+        return
+    at = [(runs[r], i) for r, i in steps]
+    back = steady_states(
+        np.array([run.frequency_hz[i - 1] for run, i in at]),
+        np.array([run.p_a_n[i] for run, i in at]), model=model,
+        y_init_m=np.array([run.y_start_m[i] for run, i in at]),
+        v_init_m_s=np.array([run.v_start_m_s[i] for run, i in at]),
+        period_guess=np.array([run.period[i] for run, i in at]),
+        app_guess_m=np.array([run.app_m[i] for run, i in at]), **accuracy)
+    for q, (run, i) in enumerate(at):
+        same = (back.settled[q] and back.period[q] == run.period[i - 1]
+                and abs(back.app_m[q] / run.app_m[i - 1] - 1) <= SAME_BRANCH_RTOL)
+        run.jumped[i] = not same
 
 
 def _sweep_lanes(freq, p_a, model, quiet, start: Orbits | None = None, *,

@@ -1,5 +1,6 @@
 """Sweeps: the paper's method, its jumps, its JSON and its figures."""
 
+import dataclasses
 import json
 import subprocess
 import sys
@@ -8,7 +9,7 @@ import numpy as np
 import pytest
 
 from numerics import sweep
-from perturb import EQ_2_6, ContactModel, eq26_numbers
+from perturb import EQ_2_6, PAPER, ContactModel, eq26_numbers
 
 
 def test_shooting_sweep_jumps_where_time_marching_jumps():
@@ -31,6 +32,38 @@ def test_up_and_down_differ_inside_the_bistable_band():
     at_1400_up = up.app_m[up.frequency_hz.tolist().index(1400.0)]
     at_1400_down = down.app_m[down.frequency_hz.tolist().index(1400.0)]
     assert at_1400_down > 2 * at_1400_up
+
+
+def test_a_jump_is_where_the_sweep_leaves_its_branch_on_coarse_and_fine_grids():
+    # The bent primary peak at 0.05 Q: one jump each way, and the 5-point grid's jump is
+    # the step that holds the 41-point grid's (measured 1425 Hz up, 1370 Hz down). App
+    # changes by more than 1.3x at every step of the coarse grid: the ratio alone said
+    # "jumps at" four steps of four.
+    coarse, fine = (sweep(np.linspace(1300.0, 1500.0, n), 0.05) for n in (5, 41))
+    for direction in ("up", "down"):
+        (c,), (f,) = coarse.run(0.05, direction).jumps(), fine.run(0.05, direction).jumps()
+        band = sorted(coarse.run(0.05, direction).frequency_hz[[c - 1, c]])
+        assert band[0] < fine.run(0.05, direction).frequency_hz[f] <= band[1] or (
+            band[0] <= fine.run(0.05, direction).frequency_hz[f - 1] < band[1])
+    assert len(coarse.runs[0].jumps(ratio=1.3)) == 1
+    assert "jumps at [1450.0] Hz" in str(coarse)
+
+
+def test_a_smooth_peak_on_a_coarse_grid_has_no_jump():
+    # Another contact (m2 = 1.5, l = 0.5; y0 and c the paper's) at 0.05 Q: one orbit at
+    # every frequency, App up to 279 nm, and more than 1.3x between 7 of the 10 pairs of
+    # neighbours on an 11-point grid. No fold lies between any of them.
+    y0, paper = eq26_numbers().y0_m, PAPER
+    contact = ContactModel(dataclasses.replace(
+        paper, m2=1.5, l=0.5, c_n=paper.Q_n / (paper.S * y0**1.5), h_n=paper.h_n * y0**0.5))
+    f_n0 = eq26_numbers(contact.parameters).f_n0_hz
+    result = sweep(np.linspace(0.7 * f_n0, 1.2 * f_n0, 11), 0.05, model=contact)
+    for run in result.runs:
+        with np.errstate(divide="ignore"):
+            steps = np.maximum(run.app_m[1:] / run.app_m[:-1], run.app_m[:-1] / run.app_m[1:])
+        assert (steps > 1.3).sum() == 7
+        assert run.jumps() == [] and run.jumped is not None
+    assert "jumps at []" in str(result)
 
 
 def test_sweep_json_has_the_documented_keys(tmp_path):

@@ -52,6 +52,8 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "minima_m": ("every local minimum of y over one period of the response", "m", "Fig. 3"),
     "contact_lost": ("ymin < 0: the slider leaves the slideway", "", "Eq. 2.1, Fig. 3b-j"),
     "period": ("p, the period of the orbit in excitation periods (0: none found)", "1", ""),
+    "jumped": ("a sweep left its branch between this point and the one before (a fold "
+               "lies between them: Section 3.3's jumps)", "", "Section 3.3"),
     "multipliers": ("Floquet multipliers of the orbit (stable inside the unit circle); "
                     "JSON: {real, imag}", "1", ""),
     "method": ("the route to a steady state: newton, march+newton, march, none; series (a "

@@ -35,11 +35,11 @@ DIRECTIONS = ("up", "down", "both")
 #: costs tens of seconds once per model: a saving only after dozens of sweeps).
 ENGINES = ("auto", "compiled", "python")
 #: A step in App by more than this factor between neighbouring points is a candidate
-#: jump: ``sweep`` checks whether it leaves the branch (``_left_branch``).
+#: jump: ``sweep`` checks whether it leaves the branch (``_check_jumps``).
 JUMP_RATIO = 1.3
-#: The relative App within which the orbit of point i, followed back to point i-1's
-#: frequency, is the orbit of point i-1 (the same branch).
-SAME_BRANCH_RTOL = 0.01
+#: The step, relative to f_e, below which a change of App by more than ``JUMP_RATIO``
+#: is a jump (``_check_jumps``).
+JUMP_RESOLUTION = 1e-4
 #: The most steady states one sweep computes (points x amplitudes x directions): about
 #: 12,000 are found per second at the paper's settings, so this is a minute or two.
 MAX_STATES = 1_000_000
@@ -50,8 +50,8 @@ class SweepRun(Orbits):
     """One amplitude swept in one direction: the ``Orbits`` columns, in the order swept.
 
     ``jumped[i]``: the sweep left its branch between points i-1 and i (checked by
-    ``sweep``: the orbit of point i, followed back to the frequency of point i-1, is
-    not the orbit of point i-1); None where no check was made.
+    ``sweep``: App changes by more than ``JUMP_RATIO`` within ``JUMP_RESOLUTION`` of
+    f_e when the step is swept again by bisection); None where no check was made.
     """
 
     pa_frac: float
@@ -195,33 +195,87 @@ def _candidates(app: np.ndarray, ratio: float = JUMP_RATIO) -> np.ndarray:
 
 
 def _check_jumps(runs: list[SweepRun], model: ContactModel, **accuracy) -> None:
-    """Set ``jumped`` on every run: at each candidate step (App changes by more than
-    ``JUMP_RATIO``) between two orbits (settled or under-resolved), the orbit of point i
-    is followed back to the frequency of point i-1, all in one ``steady_states`` call. A
-    fold lies between the points, and the sweep left its branch, unless that lands on
-    the orbit of point i-1 (same period, App within ``SAME_BRANCH_RTOL``). A smooth
-    curve on a coarse grid changes by more than the ratio at every step of a peak and
-    has no jump; a sweep over a fold has one wherever the grid puts it.
+    """Set ``jumped`` on every run: whether the sweep left its branch at each step where
+    App changes by more than ``JUMP_RATIO`` between two orbits (settled or
+    under-resolved). A smooth peak on a coarse grid changes by more than the ratio at
+    every step and has no jump; a bent one has one wherever the grid puts it.
+
+    First, the orbit after the step is followed back to the frequency before it: if it
+    lands elsewhere than the sweep's orbit there (App off by more than 1 % or another
+    period), two orbits coexist there and the sweep left a branch. If it lands on it,
+    the step may still hold a whole bistable band narrower than the grid's step, or
+    none: it is halved again and again, as a finer sweep would take it, until the half is below ``JUMP_RESOLUTION`` of f_e (``_jump_within``): a midpoint
+    with two orbits (reached from either end) is a jump; a smooth change shrinks with
+    the half and a jump does not, so the step also jumps where the last half still
+    holds a quarter of the step's change. A point that does not settle counts as a jump.
     """
-    steps = []  # (run, i)
-    for r, run in enumerate(runs):
+    steps = []  # (run, i): the step from point i-1 to point i
+    for run in runs:
         good = run.settled | (run.status == Status.UNDER_RESOLVED)
         run.jumped = np.zeros(run.status.size, dtype=bool)
-        steps += [(r, int(i)) for i in _candidates(run.app_m) if good[i] and good[i - 1]]
+        steps += [(run, int(i)) for i in _candidates(run.app_m) if good[i] and good[i - 1]]
     if not steps:
         return
-    at = [(runs[r], i) for r, i in steps]
-    back = steady_states(
-        np.array([run.frequency_hz[i - 1] for run, i in at]),
-        np.array([run.p_a_n[i] for run, i in at]), model=model,
-        y_init_m=np.array([run.y_start_m[i] for run, i in at]),
-        v_init_m_s=np.array([run.v_start_m_s[i] for run, i in at]),
-        period_guess=np.array([run.period[i] for run, i in at]),
-        app_guess_m=np.array([run.app_m[i] for run, i in at]), **accuracy)
-    for q, (run, i) in enumerate(at):
-        same = (back.settled[q] and back.period[q] == run.period[i - 1]
-                and abs(back.app_m[q] / run.app_m[i - 1] - 1) <= SAME_BRANCH_RTOL)
-        run.jumped[i] = not same
+    column = lambda name, shift: np.array([getattr(run, name)[i - shift]  # noqa: E731
+                                           for run, i in steps])
+    f_lo, f_hi, p_a = column("frequency_hz", 1), column("frequency_hz", 0), column("p_a_n", 0)
+    app_lo, app_hi = column("app_m", 1), column("app_m", 0)
+    back = steady_states(f_lo, p_a, model=model, y_init_m=column("y_start_m", 0),
+                         v_init_m_s=column("v_start_m_s", 0), period_guess=column("period", 0),
+                         app_guess_m=app_hi, **accuracy)
+    jumped = ~back.settled | (back.period != column("period", 1)) | (
+        np.abs(back.app_m / app_lo - 1) > 0.01)
+    same = np.flatnonzero(~jumped)
+    if same.size:
+        ends = [{"f": f, "p_a": p_a[same], "app": app[same].copy(),
+                 **{name: column(key, shift)[same] for name, key in (
+                     ("y", "y_start_m"), ("v", "v_start_m_s"), ("period", "period"))}}
+                for f, app, shift in ((f_lo[same], app_lo, 1), (f_hi[same], app_hi, 0))]
+        jumped[same] = _jump_within(*ends, model, accuracy)
+    for (run, i), jump in zip(steps, jumped):
+        run.jumped[i] = jump
+
+
+def _jump_within(lo: dict, hi: dict, model, accuracy) -> np.ndarray:
+    """Whether each step holds a jump, by bisection (``_check_jumps``). ``lo`` and
+    ``hi`` hold, per step, the frequency ``f``, the force ``p_a`` and the orbit (``y``,
+    ``v``, ``period``, ``app``) at its two ends; every step of the batch moves together.
+
+    The midpoint is reached from both ends. Two orbits there: the sweep left its branch.
+    One: a bistable band, if any, lies in one half, the one whose end that orbit is
+    farther from in log App (from the start, the forward orbit ends where the band
+    begins; from the end, the backward one where it ends).
+    """
+    change = np.abs(np.log(hi["app"] / lo["app"]))
+    jumped = np.zeros(change.size, dtype=bool)
+    active = np.arange(change.size)
+    while active.size:
+        mid = (lo["f"][active] + hi["f"][active]) / 2
+        both = steady_states(
+            np.concatenate([mid, mid]), np.concatenate([lo["p_a"][active]] * 2), model=model,
+            **{f"{key}": np.concatenate([lo[name][active], hi[name][active]])
+               for key, name in (("y_init_m", "y"), ("v_init_m_s", "v"),
+                                 ("period_guess", "period"), ("app_guess_m", "app"))},
+            **accuracy)
+        n = active.size
+        good = both.settled | (both.status == Status.UNDER_RESOLVED)
+        good = good[:n] & good[n:]
+        app = both.app_m[:n]
+        two = (both.period[:n] != both.period[n:]) | (np.abs(both.app_m[n:] / app - 1) > 0.01)
+        jumped[active[~good | two]] = True
+        go_on = good & ~two
+        first = go_on & (np.abs(np.log(app / lo["app"][active]))
+                         >= np.abs(np.log(hi["app"][active] / app)))
+        for side, pick in ((hi, first), (lo, go_on & ~first)):
+            at = active[pick]
+            side["f"][at], side["app"][at] = mid[pick], app[pick]
+            side["y"][at], side["v"][at] = both.y_start_m[:n][pick], both.v_start_m_s[:n][pick]
+            side["period"][at] = both.period[:n][pick]
+        narrow = go_on & (np.abs(hi["f"][active] - lo["f"][active]) < JUMP_RESOLUTION * mid)
+        last = active[narrow]
+        jumped[last] = np.abs(np.log(hi["app"][last] / lo["app"][last])) > change[last] / 4
+        active = active[go_on & ~narrow]
+    return jumped
 
 
 def _sweep_lanes(freq, p_a, model, quiet, start: Orbits | None = None, *,

@@ -34,36 +34,59 @@ def test_up_and_down_differ_inside_the_bistable_band():
     assert at_1400_down > 2 * at_1400_up
 
 
+def _softer_contact() -> ContactModel:
+    """m2 = 1.5, l = 0.5 with the paper's y0 and c (c_n and h_n rescaled)."""
+    y0 = eq26_numbers().y0_m
+    return ContactModel(dataclasses.replace(
+        PAPER, m2=1.5, l=0.5, c_n=PAPER.Q_n / (PAPER.S * y0**1.5), h_n=PAPER.h_n * y0**0.5))
+
+
+def _one_jump_in_the_fine_grids_step(coarse, fine) -> None:
+    """Each run of ``coarse`` has one jump, in the step that holds the one of ``fine``."""
+    for a, b in zip(coarse.runs, fine.runs):
+        (c,), (f,) = a.jumps(), b.jumps()
+        lo, hi = sorted(a.frequency_hz[[c - 1, c]])
+        assert lo <= min(b.frequency_hz[[f - 1, f]]) and max(b.frequency_hz[[f - 1, f]]) <= hi
+
+
 def test_a_jump_is_where_the_sweep_leaves_its_branch_on_coarse_and_fine_grids():
     # The bent primary peak at 0.05 Q: one jump each way, and the 5-point grid's jump is
-    # the step that holds the 41-point grid's (measured 1425 Hz up, 1370 Hz down). App
-    # changes by more than 1.3x at every step of the coarse grid: the ratio alone said
-    # "jumps at" four steps of four.
+    # the step that holds the 41-point grid's (1425 Hz up, 1370 Hz down). App changes by
+    # more than 1.3x at every step of the coarse grid: the ratio alone said "jumps at"
+    # four steps of four.
     coarse, fine = (sweep(np.linspace(1300.0, 1500.0, n), 0.05) for n in (5, 41))
-    for direction in ("up", "down"):
-        (c,), (f,) = coarse.run(0.05, direction).jumps(), fine.run(0.05, direction).jumps()
-        band = sorted(coarse.run(0.05, direction).frequency_hz[[c - 1, c]])
-        assert band[0] < fine.run(0.05, direction).frequency_hz[f] <= band[1] or (
-            band[0] <= fine.run(0.05, direction).frequency_hz[f - 1] < band[1])
-    assert len(coarse.runs[0].jumps(ratio=1.3)) == 1
+    _one_jump_in_the_fine_grids_step(coarse, fine)
     assert "jumps at [1450.0] Hz" in str(coarse)
 
 
+def test_a_bistable_band_narrower_than_the_grid_step_is_a_jump():
+    # The softer contact at 0.05 Q is bistable over some 9 Hz near 1235 Hz (a 161-point
+    # grid of that step jumps at 1239.9 Hz up and 1231.1 Hz down), inside one 64 Hz step
+    # of an 11-point grid: at both ends of that step one orbit only. Each sweep of the
+    # coarse grid has its jump there, found by halving the step.
+    model = _softer_contact()
+    f_n0 = eq26_numbers(model.parameters).f_n0_hz
+    grid = np.linspace(0.7 * f_n0, 1.2 * f_n0, 11)
+    coarse = sweep(grid, 0.05, model=model)
+    fine = sweep(np.linspace(grid[5], grid[6], 161), 0.05, model=model)
+    _one_jump_in_the_fine_grids_step(coarse, fine)
+
+
 def test_a_smooth_peak_on_a_coarse_grid_has_no_jump():
-    # Another contact (m2 = 1.5, l = 0.5; y0 and c the paper's) at 0.05 Q: one orbit at
-    # every frequency, App up to 279 nm, and more than 1.3x between 7 of the 10 pairs of
-    # neighbours on an 11-point grid. No fold lies between any of them.
-    y0, paper = eq26_numbers().y0_m, PAPER
-    contact = ContactModel(dataclasses.replace(
-        paper, m2=1.5, l=0.5, c_n=paper.Q_n / (paper.S * y0**1.5), h_n=paper.h_n * y0**0.5))
-    f_n0 = eq26_numbers(contact.parameters).f_n0_hz
-    result = sweep(np.linspace(0.7 * f_n0, 1.2 * f_n0, 11), 0.05, model=contact)
-    for run in result.runs:
+    # The softer contact at 0.03 Q: App up to 201 nm, more than 1.3x between 7 of the 10
+    # pairs of neighbours on an 11-point grid; on a 401-point grid no step is larger
+    # than 1.3x: no fold lies anywhere.
+    model = _softer_contact()
+    f_n0 = eq26_numbers(model.parameters).f_n0_hz
+    coarse, fine = (sweep(np.linspace(0.7 * f_n0, 1.2 * f_n0, n), 0.03, model=model)
+                    for n in (11, 401))
+    for run, fine_run in zip(coarse.runs, fine.runs):
         with np.errstate(divide="ignore"):
             steps = np.maximum(run.app_m[1:] / run.app_m[:-1], run.app_m[:-1] / run.app_m[1:])
         assert (steps > 1.3).sum() == 7
-        assert run.jumps() == [] and run.jumped is not None
-    assert "jumps at []" in str(result)
+        assert run.jumps() == [] and run.jumped is not None and fine_run.jumps() == []
+        assert np.all(np.diff(np.log(fine_run.app_m)) < np.log(1.3))
+    assert "jumps at []" in str(coarse)
 
 
 def test_sweep_json_has_the_documented_keys(tmp_path):

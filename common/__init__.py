@@ -25,11 +25,13 @@ from ._checks import (
     lookup,
 )
 from ._cli import (
+    PLOT_FORMATS,
     int_at_least,
     name_value,
     nonnegative_float,
     output_dir,
     output_file,
+    plot_file,
     positive_float,
     run_command,
 )
@@ -67,6 +69,8 @@ __all__ = [
     "note",
     "output_dir",
     "output_file",
+    "plot_file",
+    "PLOT_FORMATS",
     "processors",
     "positive_float",
     "progress",

@@ -15,7 +15,7 @@ import tempfile
 from pathlib import Path
 
 __all__ = ["positive_float", "nonnegative_float", "int_at_least", "output_file", "output_dir",
-           "run_command", "name_value"]
+           "plot_file", "run_command", "name_value", "PLOT_FORMATS"]
 
 
 def _finite(text: str) -> float:
@@ -108,11 +108,61 @@ def output_dir(text: str) -> str:
     return text
 
 
+#: What matplotlib's Agg backend writes, by extension (``tests/test_cli_errors.py`` holds
+#: it to matplotlib's own list, which takes importing matplotlib to ask).
+PLOT_FORMATS = ("avif", "eps", "gif", "jpeg", "jpg", "pdf", "pgf", "png", "ps", "raw", "rgba",
+                "svg", "svgz", "tif", "tiff", "webp")
+
+
+def plot_file(text: str) -> str:
+    """A figure to write (``output_file``) in a format that matplotlib draws, told by its
+    extension: checked before the work, not after it."""
+    suffix = Path(text).suffix.lower().lstrip(".")
+    if suffix not in PLOT_FORMATS:
+        kind = f".{suffix}" if suffix else "a file with no extension"
+        raise argparse.ArgumentTypeError(f"{text!r}: cannot draw a figure as {kind}; the "
+                                         f"formats are {', '.join(PLOT_FORMATS)}")
+    return output_file(text)
+
+
 def run_command(args: argparse.Namespace) -> int:
-    """Run a parsed command; a reader of stdout that goes away (``| head``) is no error."""
+    """Run a parsed command and say in one line what went wrong, never in a traceback.
+
+    - a reader of stdout that goes away (``| head``) is no error;
+    - bad input found by the toolkit (a ``ValueError``): its message, exit status 2;
+    - a file system that fails (a full disk, a folder removed): its message, status 1;
+    - anything else: the traceback goes to a log file that the line names, status 1.
+    """
     try:
         return args.run(args) or 0
     except BrokenPipeError:
         # Python's advice: point stdout at devnull so that the exit flush cannot fail too.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except ValueError as error:
+        print(f"{_prog(args)}: error: {error}", file=sys.stderr)
+        return 2
+    except OSError as error:
+        print(f"{_prog(args)}: error: {error.strerror or error}"
+              f"{f': {error.filename!r}' if error.filename else ''}", file=sys.stderr)
+        return 1
+    except Exception:  # noqa: BLE001 - the last resort: said in one line, kept in a log
+        log = _traceback_log()
+        print(f"{_prog(args)}: internal error ({sys.exc_info()[1]!r}); the traceback is in "
+              f"{log}", file=sys.stderr)
+        return 1
+
+
+def _prog(args: argparse.Namespace) -> str:
+    parser = getattr(args, "parser", None)
+    return parser.prog if parser is not None else Path(sys.argv[0]).name
+
+
+def _traceback_log() -> str:
+    """Write the current exception's traceback to a new log file; its path."""
+    import traceback
+
+    handle, path = tempfile.mkstemp(prefix="contact-resonances-error-", suffix=".log")
+    with os.fdopen(handle, "w", encoding="utf-8") as log:
+        log.write(" ".join(sys.argv) + "\n\n" + traceback.format_exc())
+    return path

@@ -204,10 +204,11 @@ def _check_jumps(runs: list[SweepRun], model: ContactModel, **accuracy) -> None:
     lands elsewhere than the sweep's orbit there (App off by more than 1 % or another
     period), two orbits coexist there and the sweep left a branch. If it lands on it,
     the step may still hold a whole bistable band narrower than the grid's step, or
-    none: it is halved again and again, as a finer sweep would take it, until the half is below ``JUMP_RESOLUTION`` of f_e (``_jump_within``): a midpoint
-    with two orbits (reached from either end) is a jump; a smooth change shrinks with
-    the half and a jump does not, so the step also jumps where the last half still
-    holds a quarter of the step's change. A point that does not settle counts as a jump.
+    none: it is halved again and again, as a finer sweep would take it, until the half
+    is below ``JUMP_RESOLUTION`` of f_e (``_jump_within``). A midpoint with two orbits
+    (reached from either end) is a jump; a smooth change shrinks with the half and a
+    jump does not, so the step also jumps where the last half still holds a quarter of
+    the step's change. A point that does not settle counts as a jump.
     """
     steps = []  # (run, i): the step from point i-1 to point i
     for run in runs:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from common import int_at_least, nonnegative_float, note, output_file
+from common import int_at_least, nonnegative_float, note, plot_file
 from perturb import PAPER_PANEL_FRACTIONS, ContactModel
 from perturb._model_option import model_parameters
 
@@ -33,7 +33,7 @@ def add_atlas_parser(sub) -> None:
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="run the tasks on the dask.distributed scheduler at ADDRESS "
                        "(e.g. tcp://host:8786; needs `pip install .[distributed]`)")
-    parser.add_argument("--plot", metavar="FILE.png", type=output_file,
+    parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="the map of the number of attractors per cell")
     _accuracy_options(parser)
     parser.set_defaults(run=_atlas, parser=parser)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from common import int_at_least, nonnegative_float, output_file
+from common import int_at_least, nonnegative_float, output_file, plot_file
 from perturb._model_option import add_model_option, model_parameters
 from perturb._truncation import TRUNCATIONS
 
@@ -25,7 +25,7 @@ def add_compare_parser(sub) -> None:
                         "order (consistent, the default) or Eq. 2.6's (paper)")
     parser.add_argument("--json", metavar="FILE", type=output_file,
                         help="also write the result as JSON")
-    parser.add_argument("--plot", metavar="FILE.png", type=output_file,
+    parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="draw the comparison there")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     add_model_option(parser)

@@ -10,7 +10,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from common import int_at_least, nonnegative_float, output_file, positive_float
+from common import int_at_least, nonnegative_float, output_file, plot_file, positive_float
 from perturb import EQ_2_6, FULL, PAPER_BAND_HZ, ContactModel
 from perturb._model_option import add_model_option, model_parameters
 from perturb._truncation import TRUNCATIONS
@@ -54,7 +54,7 @@ def add_continue_parser(sub) -> None:
                         "or 'auto' (the default: at least 512)")
     parser.add_argument("--json", metavar="FILE", type=output_file,
                         help="also write the result as JSON")
-    parser.add_argument("--plot", metavar="FILE.png", type=output_file,
+    parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="App against the parameter walked (f_e or P_a / Q): stable solid, "
                         "unstable dashed, bifurcations marked")
     in_f.add_argument("--series", metavar="N", type=int_at_least(0, MAX_SERIES_ORDER),

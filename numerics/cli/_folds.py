@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from common import output_file, positive_float
+from common import output_file, plot_file, positive_float
 from perturb import FULL, ContactModel
 from perturb._model_option import add_model_option, model_parameters
 
@@ -27,7 +27,7 @@ def add_folds_parser(sub) -> None:
                         "'auto' (the default: at least 512)")
     parser.add_argument("--json", metavar="FILE", type=output_file,
                         help="also write the result as JSON")
-    parser.add_argument("--plot", metavar="FILE.png", type=output_file,
+    parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="the fold curves in the (f_e, P_a / Q) plane, cusps marked")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     add_model_option(parser)

@@ -6,7 +6,7 @@ import argparse
 
 import numpy as np
 
-from common import int_at_least, nonnegative_float, note, output_file, positive_float
+from common import int_at_least, nonnegative_float, note, output_file, plot_file, positive_float
 from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
 from perturb._model_option import add_model_option, model_parameters
 
@@ -41,7 +41,7 @@ def add_sweep_parser(sub) -> None:
     add_band_options(parser)
     parser.add_argument("--points", type=int_at_least(2, MAX_STATES), default=311)
     parser.add_argument("--direction", choices=DIRECTIONS, default="both")
-    parser.add_argument("--plot", metavar="FILE.png", type=output_file,
+    parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="Fig. 2 there, and Fig. 3 beside it (FILE-extrema.png)")
     _accuracy_options(parser)
     parser.set_defaults(run=_sweep, parser=parser)

@@ -262,6 +262,8 @@ def parse_scene(text: str, source: str = "<scene>") -> Scene:
     except tomllib.TOMLDecodeError as error:
         line = _decode_line(error)
         raise SceneError(source, "", f"is not valid TOML: {error}", line) from None
+    except RecursionError:
+        raise SceneError(source, "", "nests its tables or arrays too deep to read") from None
     return _Reader(text, source).scene(data)
 
 

@@ -41,8 +41,12 @@ from ._restoring import Restoring, restoring_force
 
 __all__ = ["Backbone", "exact_backbone", "contact_loss_compression", "MAX_POINTS"]
 
-#: The most energy levels of one backbone (each holds its quadrature nodes in memory).
-MAX_POINTS = 1_000_000
+#: The most energy levels of one backbone: some 26 s at the default nodes (measured with
+#: ``numerics backbone --points 100000``); a finer curve is several calls.
+MAX_POINTS = 100_000
+#: Levels integrated together: each holds its quadrature nodes in memory (some 25 kB at
+#: the default nodes), so a call stays near 250 MB whatever its size.
+_LEVELS_PER_CHUNK = 10_000
 
 # Gauss-Legendre rule on [0, 1] for the means of r over segments.
 _GAUSS_T, _GAUSS_W = np.polynomial.legendre.leggauss(16)
@@ -325,8 +329,8 @@ def exact_backbone(
     """
     start = time.perf_counter()
     model = ContactModel() if model is None else model
-    points = check_int("points", points, 1, MAX_POINTS, why="each level holds its quadrature "
-                       "nodes; a finer curve is several calls")
+    points = check_int("points", points, 1, MAX_POINTS, why="some 26 s at the default nodes;"
+                       " a finer curve is several calls")
     nodes = check_int("nodes", nodes, 8)
     r = restoring_force(model)
     y0 = r.y0_m
@@ -335,9 +339,12 @@ def exact_backbone(
     loss = contact_loss_compression(r)
     flies = upper > loss
     half, a1, lower = (np.empty_like(upper) for _ in range(3))
-    for mask, regime in ((~flies, _in_contact), (flies, _bouncing)):
-        if mask.any():
-            half[mask], a1[mask], lower[mask] = regime(r, upper[mask], nodes)
+    for first in range(0, upper.size, _LEVELS_PER_CHUNK):
+        chunk = np.zeros(upper.size, dtype=bool)
+        chunk[first:first + _LEVELS_PER_CHUNK] = True
+        for mask, regime in ((chunk & ~flies, _in_contact), (chunk & flies, _bouncing)):
+            if mask.any():
+                half[mask], a1[mask], lower[mask] = regime(r, upper[mask], nodes)
     frequency = 1 / (2 * half * r.time_unit_s)
     (half0,), _, _ = _in_contact(r, np.array([1e-9]), 8)
     app_range = None if app_range_m is None else list(check_pair("app_range_m", app_range_m))

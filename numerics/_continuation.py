@@ -53,7 +53,7 @@ from perturb import ContactModel, eq26_numbers
 from ._continuation_map import PeriodMap, Point, floquet_multipliers
 from ._lanes import Lanes
 from ._simulate import check_model
-from ._steady import PERIODS_TRIED, lane_steps, steady_states
+from ._steady import MAX_STEPS, PERIODS_TRIED, lane_steps, steady_states
 from ._sweep import ENGINES
 
 __all__ = ["Bifurcation", "Continuation", "ContinuedBranch", "continue_orbits", "DEFAULTS"]
@@ -450,7 +450,8 @@ def branch_steps(steps_per_period, f_hz: float, numbers) -> int:
     if steps_per_period == "auto":
         return max(int(lane_steps("auto", np.array([f_hz]), numbers.fastest_rate_per_s)[0]),
                    _AUTO_MIN_STEPS)
-    return check_int("steps_per_period", steps_per_period, minimum=4)
+    return check_int("steps_per_period", steps_per_period, minimum=4, maximum=MAX_STEPS,
+                     why="the bound of the steps of every command")
 
 
 def largest_step(z: np.ndarray, angle: float, ds_max: float) -> float:

@@ -11,14 +11,16 @@ from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
 from perturb._model_option import add_model_option, model_parameters
 
 from .._attractors import attractors
-from .._steady import DEFAULTS
+from .._steady import DEFAULTS, MAX_STEPS
 from .._sweep import DIRECTIONS, MAX_STATES, sweep
 
 __all__ = ["add_sweep_parser", "add_attractors_parser"]
 
 
 def _steps(text: str) -> int | str:
-    return "auto" if text == "auto" else int_at_least(4)(text)
+    """--steps: "auto" or an integer from 4 to MAX_STEPS (2^20: at the paper's contact a
+    continuation at that N takes under 4 GB and a minute)."""
+    return "auto" if text == "auto" else int_at_least(4, MAX_STEPS)(text)
 
 
 def _accuracy_options(parser: argparse.ArgumentParser) -> None:

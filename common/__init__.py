@@ -35,10 +35,11 @@ from ._cli import (
     positive_float,
     run_command,
 )
+from ._files import replacing, write_atomically
 from ._glossary import GLOSSARY, glossary_table
 from ._json import dumps, jsonable, write_json
 from ._lazy import lazy_names
-from ._processors import processors
+from ._processors import processors, tied_to_this_process
 from ._progress import note, progress
 from ._results import RESULT_CLASSES, Result, from_dict, load, result
 from ._status import Status
@@ -72,9 +73,12 @@ __all__ = [
     "plot_file",
     "PLOT_FORMATS",
     "processors",
+    "tied_to_this_process",
     "positive_float",
     "progress",
     "result",
     "run_command",
+    "replacing",
+    "write_atomically",
     "write_json",
 ]

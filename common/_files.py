@@ -1,37 +1,59 @@
 """Files written whole or not at all.
 
-Every file the toolkit writes (results, caches) goes through ``write_atomically``: a
-temporary file beside the target, then a rename. A reader never sees half a file, an
-interrupted or failed write leaves nothing behind, and an existing symlink at the
-target is replaced, never written through (nothing lands outside the folder asked for).
-A target that is no file (a device or a pipe, such as ``/dev/stdout``) is written to
-as the stream it is.
+Every file the toolkit writes (results, figures, reports, caches) is written to a
+temporary file beside the target, then renamed onto it (``replacing``,
+``write_atomically``). A reader never sees half a file, an interrupted or failed write
+leaves nothing behind, and an existing symlink at the target is replaced, never
+written through (nothing lands outside the folder asked for). A target that is no file
+(a device or a pipe, such as ``/dev/stdout``) is written to as the stream it is.
 """
 
 from __future__ import annotations
 
 import os
 import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
-__all__ = ["write_atomically"]
+__all__ = ["replacing", "write_atomically"]
 
 
-def write_atomically(path: str | Path, text: str, encoding: str = "utf-8") -> None:
-    """Write ``text`` to ``path`` through a temporary file and a rename.
+@contextmanager
+def replacing(path: str | Path) -> Iterator[Path]:
+    """The path to write ``path``'s new content to; renamed onto ``path`` when the block
+    ends without an error, removed when it raises.
 
-    If the write fails (a full disk, text that cannot be encoded), the temporary file
-    is removed and the error raised; ``path`` is as it was.
+    The temporary name keeps the suffix (a figure's format is told by it) and names the
+    process and thread (two writers never share one).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     with replacing(f"{folder}/a.txt") as tmp:
+    ...         _ = tmp.write_text("whole")
+    ...     print(sorted(p.name for p in Path(folder).iterdir()))
+    ['a.txt']
     """
     path = Path(path)
-    if path.exists() and not path.is_file():  # a device or a pipe (/dev/stdout): a stream,
-        path.write_text(text, encoding=encoding)  # nothing to replace
+    if path.exists() and not path.is_file():  # a stream: nothing to replace
+        yield path
         return
-    # Process and thread: two threads of one process must not share a temporary file.
-    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}-{threading.get_ident()}")
+    tmp = path.with_name(f".{path.stem}.tmp{os.getpid()}-{threading.get_ident()}{path.suffix}")
     try:
-        tmp.write_text(text, encoding=encoding)
+        yield tmp
         tmp.replace(path)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
+
+
+def write_atomically(path: str | Path, text: str, encoding: str = "utf-8") -> None:
+    """Write ``text`` to ``path`` whole or not at all (``replacing``).
+
+    If the write fails (a full disk, text that cannot be encoded), the error is raised
+    and ``path`` is as it was.
+    """
+    with replacing(path) as target:
+        target.write_text(text, encoding=encoding)

@@ -28,7 +28,16 @@ from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_complet
 
 import numpy as np
 
-from common import Result, Status, check_int, check_positive, processors, progress, result
+from common import (
+    Result,
+    Status,
+    check_int,
+    check_positive,
+    processors,
+    progress,
+    result,
+    tied_to_this_process,
+)
 from perturb import ContactModel, eq26_numbers
 
 from ._attractors import (
@@ -334,7 +343,8 @@ def _local_pool(workers: int) -> Executor:
     """Worker processes on this machine: forked on Linux (they start at once, with the
     kernels this process loaded), spawned elsewhere."""
     method = "fork" if sys.platform.startswith("linux") else None
-    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(method))
+    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(method),
+                               initializer=tied_to_this_process())
 
 
 def _check_executor(executor, workers) -> tuple[Executor | None, int]:

@@ -14,6 +14,8 @@ import sys
 import traceback
 from collections.abc import Callable
 
+from common import tied_to_this_process
+
 __all__ = ["ForkedJobs", "forks"]
 
 
@@ -41,7 +43,8 @@ class ForkedJobs:
     def __init__(self, function: Callable, jobs: dict[str, tuple]) -> None:
         context = multiprocessing.get_context("fork")
         self._receiver, sender = context.Pipe(duplex=False)
-        self._process = context.Process(target=_run_and_send, args=(sender, function, jobs),
+        self._process = context.Process(target=_run_and_send,
+                                        args=(sender, function, jobs, tied_to_this_process()),
                                         daemon=True)
         self._process.start()
         sender.close()  # the child's end: the pipe ends (EOFError) when the child does
@@ -105,8 +108,10 @@ def _portable(error: Exception, text: str) -> Exception:
     return error
 
 
-def _run_and_send(sender, function: Callable, jobs: dict[str, tuple]) -> None:
-    """In the child: run each job and send ``(name, done, result or (error, traceback))``."""
+def _run_and_send(sender, function: Callable, jobs: dict[str, tuple], tie: Callable) -> None:
+    """In the child: run each job and send ``(name, done, result or (error, traceback))``;
+    ``tie`` first, so that the child ends with its parent, killed or not."""
+    tie()
     for name, arguments in jobs.items():
         try:
             sent = (name, True, function(*arguments))

@@ -7,7 +7,7 @@ import json
 import time
 from pathlib import Path
 
-from common import processors, write_json
+from common import processors, write_atomically, write_json
 from numerics._compare_table import format_comparison
 from numerics.cli._info import format_info
 from perturb import text_report
@@ -136,9 +136,10 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
     compiled = len(kernel_files()) - kernels_cached_before if kernel_files else 0
     this_run = {"wall_s": elapsed, "kernels_compiled": compiled, "quick": quick}
     lines += [""] + _runs_section(out, this_run)
-    (out / "report.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
     payload = {"claims": [c.as_dict() for c in claims], "elapsed_s": elapsed,
                "timings": scene.timings, "work_precision": work.as_dict(),
                "figures": figures, "quick": quick, "run": this_run}
     write_json(out / "report.json", payload)
+    # The report last, whole or not at all: a run stopped before it leaves none.
+    write_atomically(out / "report.md", "\n".join(lines) + "\n")
     return payload

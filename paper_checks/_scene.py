@@ -36,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from common import tied_to_this_process
 from numerics import compiled_kernels, steady_states
 from numerics._codegen import kernels_built
 from numerics.scenes import Scene, SceneRun, read_scene, run_scene
@@ -168,13 +169,15 @@ def worker_pool(jobs: int) -> Iterator[Executor | None]:
 
     On Linux the workers are forked: they start at once with what this process has
     imported, where spawned ones would import it all again each (elsewhere they are
-    spawned). On an error the scenes not started are cancelled.
+    spawned). On an error the scenes not started are cancelled; when this process ends,
+    killed or not, the workers end with it (``common.tied_to_this_process``).
     """
     if jobs <= 1:
         yield None
         return
     method = "fork" if forks() else None
-    pool = ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context(method))
+    pool = ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context(method),
+                               initializer=tied_to_this_process())
     try:
         yield pool
     except BaseException:

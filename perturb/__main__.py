@@ -28,7 +28,6 @@ import argparse
 import sys
 import time
 from functools import partial
-from pathlib import Path
 
 import numpy as np
 
@@ -40,6 +39,7 @@ from common import (
     positive_float,
     progress,
     run_command,
+    write_atomically,
     write_json,
 )
 
@@ -98,7 +98,7 @@ def _derive(args: argparse.Namespace) -> None:
     bar.close()
     if args.latex:  # the files first: a reader of stdout that goes away loses nothing
         latex = timed("LaTeX", lambda: latex_of(series))
-        Path(args.latex).write_text(latex, encoding="utf-8")
+        write_atomically(args.latex, latex)
     if args.json:
         timed("JSON", lambda: write_json(args.json, series_json(series)))
     print(text, end="")

@@ -96,3 +96,80 @@ def test_a_stream_is_written_as_a_stream(argv):
     out = run("numerics", *argv)
     assert out.returncode == 0 and '"y0_m": 2.25185562534611e-07' in out.stdout
     assert Path("/dev/stdout").is_symlink() or not Path("/dev/stdout").exists()
+
+
+def test_a_scene_never_writes_through_a_symlink_in_its_folder(tmp_path):
+    from numerics.scenes import parse_scene, run_scene
+
+    outside = tmp_path / "outside.png"
+    outside.write_bytes(b"keep me")
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "app.png").symlink_to(outside)
+    scene = parse_scene('[excitation]\npa_frac = 0.05\nfrequency_hz = [800.0, 900.0]\n'
+                        '[study]\nkind = "analytic_response"\n[output]\nfigures = ["app"]\n')
+    assert run_scene(scene, out=out).files == ["app.png"]
+    assert outside.read_bytes() == b"keep me"
+    assert not (out / "app.png").is_symlink()
+    assert (out / "app.png").read_bytes().startswith(b"\x89PNG")
+    assert sorted(p.name for p in out.iterdir()) == ["app.png"]  # no temporary file left
+
+
+def test_a_figure_that_fails_to_draw_leaves_nothing(tmp_path, monkeypatch):
+    from numerics.plots import _figure
+
+    def fails(figure, path):
+        Path(path).write_bytes(b"half a")
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(_figure, "_write_png", fails)
+    import matplotlib.figure
+
+    with pytest.raises(OSError, match="No space"):
+        _figure.finish(matplotlib.figure.Figure(), tmp_path / "fig.png")
+    assert not list(tmp_path.iterdir())
+
+
+def _children(pid: int) -> list[int]:
+    """The live (not zombie) child processes of ``pid``, from /proc."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            state, parent = stat.read_text().rsplit(")", 1)[1].split()[:2]
+        except (OSError, ValueError):
+            continue
+        if int(parent) == pid and state != "Z":
+            found.append(int(stat.parent.name))
+    return found
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc and prctl")
+def test_a_killed_paper_checks_takes_its_workers_with_it(tmp_path):
+    import os
+    import signal
+
+    run = subprocess.Popen([sys.executable, "-m", "paper_checks", "--quick", "--jobs", "2",
+                            "--quiet", "--out", str(tmp_path / "out")],
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    workers: list[int] = []
+    deadline = time.monotonic() + 30
+    while len(workers) < 2 and time.monotonic() < deadline:
+        time.sleep(0.1)
+        workers = _children(run.pid)
+    assert len(workers) >= 2, "the workers did not start"
+    os.kill(run.pid, signal.SIGKILL)
+    run.wait()
+    deadline = time.monotonic() + 10
+    while any(_alive(w) for w in workers) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    left = [w for w in workers if _alive(w)]
+    assert not left, f"workers {left} outlived the killed run"
+    assert not (tmp_path / "out" / "report.md").exists()  # stopped before it: no report
+
+
+def _alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"

@@ -18,7 +18,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.patches import Polygon, Rectangle
 
-from common import check_int, check_positive, check_real, finite_array
+from common import check_int, check_positive, check_real, finite_array, replacing
 
 from ._observables import curve_labels, curves, increasing, is_wide, same_lengths
 
@@ -82,7 +82,8 @@ def _write(figure: Figure, update, frames: int, fps: float, path: Path) -> Path:
     _freeze_background(figure, moving)
     animation = FuncAnimation(figure, update, frames=frames, init_func=lambda: (),
                               repeat=False, cache_frame_data=False)
-    animation.save(path, writer=PillowWriter(fps=fps), dpi=DPI)
+    with replacing(path) as target:  # whole or not at all, never through a symlink
+        animation.save(target, writer=PillowWriter(fps=fps), dpi=DPI)
     return path
 
 

@@ -11,6 +11,8 @@ from matplotlib.figure import Figure
 from matplotlib.mathtext import MathTextParser
 from matplotlib.ticker import Locator
 
+from common import replacing
+
 __all__ = ["new_figure", "finish", "panel_title", "fixed_layout", "DPI", "EDGE_PAD_IN"]
 
 #: Resolution of the saved figures [dots per inch].
@@ -151,10 +153,14 @@ def finish(figure: Figure, path: str | Path | None) -> Figure:
     _minor_log_ticks_in_view(figure)
     if path is None:
         return figure
-    if not isinstance(path, (str, os.PathLike)) or Path(path).suffix.lower() != ".png":
+    if not isinstance(path, (str, os.PathLike)):  # a file object: matplotlib's to write
         figure.savefig(path, dpi=DPI)
         return figure
-    _write_png(figure, path)
+    with replacing(path) as target:  # whole or not at all, never through a symlink
+        if Path(path).suffix.lower() == ".png":
+            _write_png(figure, target)
+        else:
+            figure.savefig(target, dpi=DPI)
     return figure
 
 

@@ -10,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
+from common import write_atomically
+
 from ._observables import HARMONICS_OF_F_E, replay
 from ._schema import Scene
 
@@ -25,7 +27,7 @@ def write_outputs(scene: Scene, run, out: Path) -> list[str]:
     if scene.animation:
         files.append(_animate(scene, run, out))
     if scene.text:
-        (out / scene.text).write_text(run.text, encoding="utf-8")
+        write_atomically(out / scene.text, run.text)
         files.append(scene.text)
     return files
 

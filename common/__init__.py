@@ -26,6 +26,7 @@ from ._checks import (
 )
 from ._cli import (
     PLOT_FORMATS,
+    add_allow_slow,
     int_at_least,
     name_value,
     nonnegative_float,
@@ -71,6 +72,7 @@ __all__ = [
     "output_dir",
     "output_file",
     "plot_file",
+    "add_allow_slow",
     "PLOT_FORMATS",
     "processors",
     "tied_to_this_process",

@@ -15,7 +15,7 @@ import tempfile
 from pathlib import Path
 
 __all__ = ["positive_float", "nonnegative_float", "int_at_least", "output_file", "output_dir",
-           "plot_file", "run_command", "name_value", "PLOT_FORMATS"]
+           "plot_file", "run_command", "name_value", "PLOT_FORMATS", "add_allow_slow"]
 
 
 def _finite(text: str) -> float:
@@ -123,6 +123,14 @@ def plot_file(text: str) -> str:
         raise argparse.ArgumentTypeError(f"{text!r}: cannot draw a figure as {kind}; the "
                                          f"formats are {', '.join(PLOT_FORMATS)}")
     return output_file(text)
+
+
+def add_allow_slow(parser: argparse.ArgumentParser) -> None:
+    """``--allow-slow``: take a series order above the one measured to take about a
+    minute (a command refuses it otherwise, exit status 2, naming the limit)."""
+    parser.add_argument("--allow-slow", action="store_true",
+                        help="take an order above the one measured to take about a minute "
+                             "(refused otherwise)")
 
 
 def run_command(args: argparse.Namespace) -> int:

@@ -22,6 +22,7 @@ from common import (
     result,
 )
 from perturb import PAPER, PAPER_BAND_HZ, ContactModel, ContactParameters, frequency_response
+from perturb._slow_orders import check_slow_order
 from perturb._truncation import truncation_for, truncation_settings
 
 from ._compare_backbone import BackboneComparison, compare_backbones
@@ -147,6 +148,7 @@ def compare(
     parameters: ContactParameters = PAPER,
     quiet: bool = True,
     truncation: str = "consistent",
+    allow_slow: bool = False,
 ) -> Comparison:
     """Series of each order against the exact backbone and RK4 steady states.
 
@@ -171,6 +173,9 @@ def compare(
     truncation : {"consistent", "paper"}
         The series compared: every term of the contact's equation up to the order, or
         Eq. 2.6's (``perturb.frequency_response``, ``perturb.backbone_series``).
+    allow_slow : bool
+        Take orders above the one measured to take about a minute
+        (``perturb.frequency_response``'s); refused otherwise.
 
     Returns
     -------
@@ -193,8 +198,10 @@ def compare(
     if not isinstance(parameters, ContactParameters):
         raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
     truncation = truncation_for(truncation, parameters).name  # a bad name: a ValueError
+    for n in orders:  # before any work
+        check_slow_order(n, "response", truncation, parameters, allow_slow=allow_slow)
     backbone = compare_backbones(orders, model=ContactModel(parameters), tolerance=tolerance,
-                                 truncation=truncation)
+                                 truncation=truncation, allow_slow=allow_slow)
     limits = dict(zip(backbone.orders, backbone.limit_app_m))
     bar = progress(len(MODELS), "compare: RK4 sweeps", quiet=quiet)
     by_model = {}
@@ -206,7 +213,7 @@ def compare(
     # One series whatever the model it is compared with: solved once per amplitude and
     # order, for the curves of both models.
     series = {(frac, n): frequency_response(grid, frac, n, parameters=parameters,
-                                            truncation=truncation)
+                                            truncation=truncation, allow_slow=allow_slow)
               for frac in pa_frac for n in backbone.orders}
     responses = [compare_response(curve, n, grid, limits[n], parameters,
                                   response=series[curve.pa_frac, n])

@@ -125,7 +125,7 @@ def validity_limit(amplitude: np.ndarray, error: np.ndarray, tolerance: float) -
 
 def compare_backbones(
     orders=(2, 4, 6), *, model: ContactModel | None = None, points: int = 400,
-    tolerance: float = 0.01, truncation: str = "consistent",
+    tolerance: float = 0.01, truncation: str = "consistent", allow_slow: bool = False,
 ) -> BackboneComparison:
     """Backbone series of each order against the exact backbone of ``model``.
 
@@ -142,6 +142,9 @@ def compare_backbones(
     truncation : {"consistent", "paper"}
         The series of the model's own spring (every Taylor term, alpha = a / y0) or
         Eq. 2.6's (h u^2 only, alpha = h a / omega0^2): ``perturb.backbone_series``.
+    allow_slow : bool
+        Take orders above the one measured to take about a minute
+        (``perturb.backbone_series``'); refused otherwise.
 
     Returns
     -------
@@ -170,7 +173,8 @@ def compare_backbones(
     tolerance = check_positive("tolerance", tolerance)
     numbers = eq26_numbers(model.parameters)
     exact = exact_backbone(numbers.y0_m * np.geomspace(1e-4, 3.0, points), model=model)
-    backbones = [backbone_series(n, truncation, model.parameters) for n in orders]
+    backbones = [backbone_series(n, truncation, model.parameters, allow_slow=allow_slow)
+                 for n in orders]
     series = np.array([exact.f_n0_hz * b.frequency_ratio(b.alpha_per_m() * exact.a1_m)
                        for b in backbones])
     error = np.abs(series / exact.frequency_hz - 1)

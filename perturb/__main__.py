@@ -32,6 +32,7 @@ from functools import partial
 import numpy as np
 
 from common import (
+    add_allow_slow,
     int_at_least,
     nonnegative_float,
     note,
@@ -46,20 +47,11 @@ from common import (
 from ._model_option import add_model_option, model_parameters
 from ._parameters import PAPER_BAND_HZ
 from ._response import MAX_FREQUENCIES, frequency_response
-from ._truncation import TRUNCATIONS, truncation_for
+from ._slow_orders import check_slow_order
+from ._truncation import TRUNCATIONS
 
 # derive and backbone import sympy in their commands: `response` with its order's
 # kernels built needs none of it.
-
-#: Above this order the closed forms take minutes to simplify and print; measured with
-#: `python -m perturb derive --order N` on the 2-core machine (see the note).
-SLOW_PRINT_ORDER = 20
-SLOW_PRINT_EXAMPLE = "measured: order 16 7 s, order 20 17 s, order 24 26 s"
-#: The same for a consistent series whose sums do not end (m2 or l no integer): measured
-#: with `derive --order N --set m2=1.5 --set l=0.5` (text only) on the 2-core machine.
-SLOW_GROWING_ORDER = 5
-SLOW_GROWING_EXAMPLE = "measured at m2 = 1.5, l = 0.5: order 5 3.7 s, order 6 10.7 s"
-
 
 def _derive(args: argparse.Namespace) -> None:
     from ._derivation import derivation_latex, derivation_text
@@ -77,17 +69,8 @@ def _derive(args: argparse.Namespace) -> None:
     parameters = model_parameters(args)
     # The derivation study is the paper's (Eq. 2.6 in its names) unless told otherwise.
     truncation = args.truncation or ("paper" if args.steps else "consistent")
-    kept = truncation_for(truncation, parameters)
-    growing = None in (kept.spring_degree, kept.damping_degree)  # sums that do not end
-    if growing and args.order > SLOW_GROWING_ORDER:
-        note(f"order {args.order}: the consistent series of a law that is no polynomial "
-             "gains terms at every order, and its closed forms grow some 2.5x an order "
-             f"({SLOW_GROWING_EXAMPLE}); its numbers come from compile_series at any order",
-             quiet=args.quiet)
-    elif args.order > SLOW_PRINT_ORDER:
-        note(f"order {args.order}: the closed forms take half a minute to minutes to simplify "
-             f"and print (above order {SLOW_PRINT_ORDER}; {SLOW_PRINT_EXAMPLE})",
-             quiet=args.quiet)
+    # Derived, simplified and printed: the "derive" limits (``_slow_orders``).
+    check_slow_order(args.order, "derive", truncation, parameters, allow_slow=args.allow_slow)
     series = timed("derivation", lambda: derive(args.order, truncation, parameters))
     bar = progress(args.order + 1, "closed forms and text, order by order", quiet=args.quiet)
     if args.steps:  # the derivation study, in the paper's names
@@ -108,7 +91,8 @@ def _derive(args: argparse.Namespace) -> None:
 def _backbone(args: argparse.Namespace) -> None:
     from ._backbone_series import backbone_series
 
-    series = backbone_series(args.order, args.truncation, model_parameters(args))
+    series = backbone_series(args.order, args.truncation, model_parameters(args),
+                             allow_slow=args.allow_slow)
     note(f"backbone series to order {args.order} in {series.elapsed_s:.3f} s", quiet=args.quiet)
     data = series
     if args.app_m:
@@ -129,7 +113,8 @@ def _response(args: argparse.Namespace) -> None:
     frequency_hz = np.linspace(args.fmin, args.fmax, args.points)
     note(f"response of order {args.order} at {args.points} frequencies ...", quiet=args.quiet)
     response = frequency_response(frequency_hz, args.pa_frac, args.order,
-                                  parameters=model_parameters(args), truncation=args.truncation)
+                                  parameters=model_parameters(args), truncation=args.truncation,
+                                  allow_slow=args.allow_slow)
     note(f"done in {response.elapsed_s:.2f} s", quiet=args.quiet)
     if args.json:
         write_json(args.json, response)
@@ -183,6 +168,7 @@ def _parser() -> argparse.ArgumentParser:
                          help="consistent: every term k_j u^j, d_j u^j u' of the contact's "
                          "equation up to the order (default; paper with --steps); paper: "
                          "Eq. 2.6")
+        add_allow_slow(sub)
         # SUPPRESS: a --quiet given before the command is not reset here.
         sub.add_argument(
             "--quiet", action="store_true", default=argparse.SUPPRESS, help="no progress on stderr"

@@ -46,6 +46,7 @@ from ._effects import EQ_2_6
 from ._model import ContactModel
 from ._parameters import PAPER, ContactParameters
 from ._series_symbols import check_order
+from ._slow_orders import check_slow_order
 from ._truncation import truncation_for
 
 __all__ = ["BackboneSeries", "backbone_series", "power_law_backbone_coefficients"]
@@ -312,7 +313,8 @@ def _exact_m2(m2: float) -> Fraction:
 
 
 def backbone_series(order: int, truncation: str = "consistent",
-                    parameters: ContactParameters = PAPER) -> BackboneSeries:
+                    parameters: ContactParameters = PAPER, *,
+                    allow_slow: bool = False) -> BackboneSeries:
     """The free undamped backbone of the contact to alpha^order, exactly.
 
     Parameters
@@ -327,6 +329,9 @@ def backbone_series(order: int, truncation: str = "consistent",
     parameters : ContactParameters
         The contact (its m2 shapes the consistent series; y0, omega0 and h turn alpha
         into an amplitude).
+    allow_slow : bool
+        Take an order above the one measured to take about a minute
+        (``perturb._slow_orders``: 100, or 50 for a non-integer m2); refused otherwise.
 
     Returns
     -------
@@ -345,8 +350,8 @@ def backbone_series(order: int, truncation: str = "consistent",
     ValueError: `order` must be an integer >= 0, got -2.
     """
     start = time.perf_counter()
-    order = check_order(order)
     resolved = truncation_for(truncation, parameters)
+    order = check_slow_order(order, "backbone", resolved, parameters, allow_slow=allow_slow)
     if resolved.name == "paper":
         coefficients, waveform = _exact_series(order)
         model, settings = ContactModel(parameters, EQ_2_6).as_dict(), {}

@@ -56,6 +56,7 @@ from ._model import ContactModel
 from ._numbers import Eq26Numbers
 from ._parameters import PAPER, ContactParameters
 from ._response_codegen import NEXT_ORDERS, series_kernels, series_kernels_built
+from ._slow_orders import check_slow_order
 from ._truncation import (
     SeriesValues,
     Truncation,
@@ -318,6 +319,7 @@ def frequency_response(
     tolerance: float = 0.01,
     engine: str = "auto",
     truncation: str = "consistent",
+    allow_slow: bool = False,
 ) -> Response:
     """Every response of the order-N series of the equation in contact at each frequency.
 
@@ -363,6 +365,9 @@ def frequency_response(
         estimate of "paper" includes its distance to the contact's own equation
         (the consistent series of order N+2), except on the paper's contact itself
         (m2 = 2, l = 1), whose flags stay the paper's.
+    allow_slow : bool
+        Take an order above the one measured to take about a minute
+        (``perturb._slow_orders``: 24); refused otherwise.
 
     Returns
     -------
@@ -384,9 +389,11 @@ def frequency_response(
     start = time.perf_counter()
     freq = _check_frequencies(frequency_hz)
     pa_frac = check_positive("pa_frac", pa_frac, allow_zero=True)
-    order = check_int("order", order, minimum=0)
+    check_int("order", order, minimum=0)
     if not isinstance(parameters, ContactParameters):
         raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
+    order = check_slow_order(order, "response", truncation, parameters,
+                             allow_slow=allow_slow)
     omega_range = check_pair("omega_range", omega_range, positive=True)
     grid_points = check_int("grid_points", grid_points, minimum=2)
     samples = check_int("samples", samples, minimum=3)

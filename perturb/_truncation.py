@@ -168,10 +168,15 @@ class SeriesValues(Eq26Numbers):
 
     def _value(self, kind: str, j: int) -> float:
         p, y0 = self.parameters, self.y0_m
-        if kind == "k":
-            value = p.S * p.c_n / p.M * binomial(p.m2, j) * y0 ** (p.m2 - j)
-        else:
-            value = p.S * p.h_n / p.M * binomial(p.l, j) * y0 ** (p.l - j)
+        try:
+            if kind == "k":
+                value = p.S * p.c_n / p.M * binomial(p.m2, j) * y0 ** (p.m2 - j)
+            else:
+                value = p.S * p.h_n / p.M * binomial(p.l, j) * y0 ** (p.l - j)
+        except OverflowError:  # y0^(m2 - j): a series of this order needs it
+            raise ValueError(f"{kind}_{j} of this contact (y0 = {y0:.3g} m) leaves the "
+                             "floating-point range: a series that keeps it is of too high an "
+                             "order for numbers") from None
         return 0.0 if value == 0 else float(value)
 
 

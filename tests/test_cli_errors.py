@@ -173,3 +173,31 @@ def _alive(pid: int) -> bool:
     except OSError:
         return False
     return state != "Z"
+
+
+@pytest.mark.parametrize("argv, limit", [
+    (["perturb", "derive", "--order", "25"], 24),
+    (["perturb", "derive", "--order", "7", "--set", "m2=1.5"], 6),
+    (["perturb", "backbone", "--order", "101"], 100),
+    (["perturb", "backbone", "--order", "51", "--set", "m2=1.5"], 50),
+    (["perturb", "response", "--order", "25", "--pa-frac", "0.05", "--points", "3"], 24),
+    (["numerics", "compare", "--orders", "4", "25"], 24),
+])
+def test_an_order_past_about_a_minute_is_refused_before_the_work(argv, limit):
+    start = time.perf_counter()
+    out = run(*argv)
+    assert out.returncode == 2 and "Traceback" not in out.stderr
+    assert f"is above {limit}, the largest that" in out.stderr and "--allow-slow" in out.stderr
+    assert time.perf_counter() - start < 20
+
+
+def test_allow_slow_goes_past_the_limit():
+    from perturb import backbone_series, frequency_response
+
+    with pytest.raises(ValueError, match="`order` 25 is above 24"):
+        frequency_response([1000.0], 0.05, 25)
+    with pytest.raises(ValueError, match="`order` 101 is above 100"):
+        backbone_series(101, "paper")
+    # The consistent series of the paper's contact by the scheme: quick at any order.
+    response = frequency_response([1000.0, 1100.0], 0.05, 25, allow_slow=True)
+    assert response.branches[0].valid.all()

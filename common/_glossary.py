@@ -221,6 +221,8 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "attractor_app_m": ("per cell of the atlas, App of each attractor", "m", "Fig. 2"),
     "cells": ("the atlas's grid: [frequencies, amplitudes]", "1", ""),
     "tasks": ("how many tasks (blocks of consecutive cells) the atlas was cut into", "1", ""),
+    "tasks_retried": ("how many tasks ran again on a fresh pool after a worker process died",
+                      "1", ""),
     "cell_time_s": ("the atlas's wall time per cell", "s", ""),
     "workers": ("an atlas scene's worker processes on this machine (null: one per processor)",
                 "1", ""),

@@ -25,6 +25,7 @@ import sys
 import time
 from collections import Counter
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
 
@@ -63,6 +64,8 @@ TASK_LANES = 2048
 #: ... and up to this many lane-steps per period (lanes x steps per period), since
 #: every lane keeps its orbit, y at every step: 8 MiB a period at most, for a task.
 TASK_SAMPLES = 2048 * 512
+#: How many times the tasks of a local pool that broke (a worker died) are run again.
+RETRIES = 2
 
 
 @result
@@ -118,9 +121,11 @@ class Atlas(Result):
     def summary(self) -> str:
         failed = int((self.status == Status.FAILED).sum())
         most = int(self.attractor_count.max(initial=-1))
+        retried = self.settings.get("tasks_retried", 0)
         return (f"Atlas of {self.pa_frac.size} x {self.frequency_hz.size} cells (P_a x f_e), "
                 f"up to {most} coexisting attractors"
                 + (f", {failed} cells failed" if failed else "")
+                + (f", {retried} tasks run again after a worker was lost" if retried else "")
                 + f" ({self.elapsed_s:.3g} s, {self.cell_time_s * 1e3:.3g} ms per cell)")
 
     def table(self) -> str:
@@ -225,11 +230,12 @@ def atlas(
     rate = eq26_numbers(model.parameters).fastest_rate_per_s
     tasks = task_cells(lane_steps(steps_per_period, f_cells, rate), states)
     jobs = [(_run_task, f_cells[t], pa_cells[t], model, initial_states, accuracy) for t in tasks]
-    outcomes = _run(jobs, executor, workers, model, quiet)
+    outcomes, retried = _run(jobs, executor, workers, model, quiet)
     cells_found = [cell for task, outcome in zip(tasks, outcomes)
                    for cell in _cells_of(task, outcome)]
     settings = census_settings(initial_states, states, **accuracy)
-    settings |= {"cells": [frequencies.size, amplitudes.size], "tasks": len(tasks)}
+    settings |= {"cells": [frequencies.size, amplitudes.size], "tasks": len(tasks),
+                 "tasks_retried": retried}
     return Atlas(frequency_hz=frequencies, pa_frac=amplitudes, model=model.as_dict(),
                  settings=settings, elapsed_s=time.perf_counter() - start,
                  **_assemble(cells_found, amplitudes.size, frequencies.size))
@@ -288,32 +294,60 @@ def _rows(values: list, columns: int) -> list[list]:
 
 
 def _run(jobs: list[tuple], executor: Executor | None, workers: int, model: ContactModel,
-         quiet: bool) -> list[list[dict] | str]:
-    """Each job's result, or its error as "Type: message", in the jobs' order."""
+         quiet: bool) -> tuple[list[list[dict] | str], int]:
+    """Each job's result, or its error as "Type: message", in the jobs' order; and how
+    many tasks were run again.
+
+    In the local pool, a task whose worker process died (killed, out of memory: the
+    pool breaks, and every task still in it fails with ``BrokenProcessPool``) is
+    submitted again on a fresh pool, up to ``RETRIES`` times; a task that raised an
+    error of its own is not. (dask resubmits a lost worker's tasks itself.)
+    """
     own = executor is None
     if own:
         compiled_kernels(model)  # loaded (or built) once here: forked workers inherit it
         if workers == 1:
-            return _run_here(jobs, quiet)
-        executor = _local_pool(min(workers, len(jobs)))
+            return _run_here(jobs, quiet), 0
+    outcomes: list = [None] * len(jobs)
+    pending, retried = list(range(len(jobs))), 0
+    bar = progress(len(jobs), "atlas tasks", quiet=quiet)
+    for attempt in range(RETRIES + 1 if own else 1):
+        pool = _local_pool(min(workers, len(pending))) if own else executor
+        lost = _submit(pool, [jobs[k] for k in pending], pending, outcomes, bar, own)
+        if not lost:
+            break
+        if attempt < RETRIES and own:
+            retried += len(lost)
+            pending = lost
+    bar.close()
+    return outcomes, retried
+
+
+def _submit(pool: Executor, jobs: list[tuple], index: list[int], outcomes: list, bar,
+            own: bool) -> list[int]:
+    """Run ``jobs`` on ``pool``, each outcome into ``outcomes[index[k]]``; the indices of
+    the tasks lost with a broken local pool (their outcome says so, should they not be
+    run again)."""
     futures: dict[Future, int] = {}
+    lost = []
     try:
-        futures = {executor.submit(*job): k for k, job in enumerate(jobs)}
-        outcomes: list = [None] * len(jobs)
-        bar = progress(len(jobs), "atlas tasks", quiet=quiet)
+        futures = {pool.submit(*job): k for k, job in zip(index, jobs)}
         for future in as_completed(futures):
-            outcomes[futures[future]] = _outcome(future)
-            bar.update()
-        bar.close()
+            k = futures[future]
+            outcomes[k] = _outcome(future)
+            if own and isinstance(future.exception(), BrokenProcessPool):
+                lost.append(k)
+            else:
+                bar.update()
     except BaseException:  # Ctrl-C included: no task left running for nothing
         for future in futures:
             future.cancel()
         if own:
-            executor.shutdown(wait=False, cancel_futures=True)
+            pool.shutdown(wait=False, cancel_futures=True)
         raise
     if own:
-        executor.shutdown()
-    return outcomes
+        pool.shutdown()
+    return sorted(lost)
 
 
 def _run_here(jobs: list[tuple], quiet: bool) -> list[list[dict] | str]:

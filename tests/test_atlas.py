@@ -292,3 +292,36 @@ def test_beyond_the_fold_curves_end_the_bistable_cells_are_between_the_folds_in_
     inside = (low < f) & (f < high)
     assert row.attractor_count[0].tolist() == np.where(inside, 2, 1).tolist()
     assert inside.sum() == 25
+
+
+def test_the_atlas_survives_a_lost_worker(monkeypatch):
+    # One of the two workers is killed while the pool runs: the tasks lost with the
+    # broken pool are run again on a fresh one, and the atlas is the undisturbed one,
+    # cell for cell, saying how many tasks ran again.
+    import os
+    import signal
+    import threading
+    import time
+
+    from numerics import _atlas
+
+    args = (400.0, 800.0, 0.1, 0.5)
+    undisturbed = atlas(*args, grid=(12, 6), workers=2)
+    submit, killed = _atlas._submit, []
+
+    def kill_one_worker(pool, *rest, **kwargs):
+        if not killed:
+            def kill():
+                time.sleep(0.5)
+                killed.append(next(iter(pool._processes)))
+                os.kill(killed[0], signal.SIGKILL)
+            threading.Thread(target=kill).start()
+        return submit(pool, *rest, **kwargs)
+
+    monkeypatch.setattr(_atlas, "_submit", kill_one_worker)
+    disturbed = atlas(*args, grid=(12, 6), workers=2)
+    assert killed and disturbed.settings["tasks_retried"] >= 1
+    assert "run again after a worker was lost" in disturbed.summary()
+    disturbed.settings.pop("tasks_retried")
+    undisturbed.settings.pop("tasks_retried")
+    assert results(disturbed) == results(undisturbed)

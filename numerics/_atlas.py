@@ -34,6 +34,7 @@ from common import (
     Status,
     check_int,
     check_positive,
+    note,
     processors,
     progress,
     result,
@@ -56,8 +57,12 @@ from ._steady import DEFAULTS, check_accuracy, lane_steps
 __all__ = ["Atlas", "atlas", "MAX_LANES", "TASK_LANES", "TASK_SAMPLES"]
 
 #: The most lanes (cells x initial states) of one atlas: a bound on the work, refused
-#: before any is done (tests/benchmarks/bench_atlas.py prints the time per lane).
-MAX_LANES = 10_000_000
+#: before any is done. At the rate make bench measures (100 x 50 cells x 50 initial
+#: states in 16.8 s with 2 workers: 67 us per lane) this is some 2 to 3 minutes.
+MAX_LANES = 2_000_000
+#: The time per lane (cell x initial state) that the estimate of ``atlas`` takes, in
+#: seconds: the rate above, with 2 worker processes.
+LANE_SECONDS = 67e-6
 #: A task holds consecutive cells up to about this many lanes: enough that the kernel's
 #: calls, not Python, take the time (bench_atlas.py: time per cell against cells per task)...
 TASK_LANES = 2048
@@ -217,11 +222,12 @@ def atlas(
     f_axis, pa_axis = check_axes(fmin_hz, fmax_hz, pa_min, pa_max, grid)
     sizes = f_axis[2], pa_axis[2]
     states = _states(model, initial_states)
-    if sizes[0] * sizes[1] * states > MAX_LANES:  # refused before the axes are allocated
+    lanes = sizes[0] * sizes[1] * states
+    if lanes > MAX_LANES:  # refused before the axes are allocated
         raise ValueError(f"`grid` {sizes} with {states} initial states asks for "
-                         f"{sizes[0] * sizes[1] * states} lanes, more than the limit of "
-                         f"{MAX_LANES} (a bound on the work): split the grid or take fewer "
-                         "initial states.")
+                         f"{lanes} lanes, more than the limit of {MAX_LANES} (some 2 to 3 "
+                         "minutes on 2 processors): split the grid or take fewer initial "
+                         "states.")
     frequencies, amplitudes = np.linspace(*f_axis), np.linspace(*pa_axis)
     accuracy = _accuracy(steps_per_period, tol, max_periods, lyapunov_periods)
     executor, workers = _check_executor(executor, workers)
@@ -230,6 +236,9 @@ def atlas(
     rate = eq26_numbers(model.parameters).fastest_rate_per_s
     tasks = task_cells(lane_steps(steps_per_period, f_cells, rate), states)
     jobs = [(_run_task, f_cells[t], pa_cells[t], model, initial_states, accuracy) for t in tasks]
+    note(f"atlas: {sizes[0]} x {sizes[1]} cells x {states} initial states = {lanes} lanes in "
+         f"{len(jobs)} tasks; some {lanes * LANE_SECONDS:.2g} s at the rate of 2 local "
+         "workers", quiet=quiet)
     outcomes, retried = _run(jobs, executor, workers, model, quiet)
     cells_found = [cell for task, outcome in zip(tasks, outcomes)
                    for cell in _cells_of(task, outcome)]

@@ -201,3 +201,27 @@ def test_allow_slow_goes_past_the_limit():
     # The consistent series of the paper's contact by the scheme: quick at any order.
     response = frequency_response([1000.0, 1100.0], 0.05, 25, allow_slow=True)
     assert response.branches[0].valid.all()
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["numerics", "atlas", "--grid", "319", "319", "--quiet"],
+     "more than the limit of 2000000 (some 2 to 3 minutes"),
+    (["numerics", "backbone", "--points", "1000000"], "must be an integer <= 100000"),
+    (["numerics", "continue", "--pa-frac", "0.05", "--steps", "16777216"],
+     "must be an integer <= 1048576"),
+])
+def test_work_past_its_bound_is_refused_at_once(argv, message):
+    start = time.perf_counter()
+    out = run(*argv)
+    assert out.returncode == 2 and message in out.stderr and "Traceback" not in out.stderr
+    assert time.perf_counter() - start < 20
+
+
+def test_a_taylor_spring_of_absurd_degree_is_refused(tmp_path):
+    scene = tmp_path / "taylor.toml"
+    scene.write_text('effects = {spring = "taylor", taylor_degree = 1000}\n[excitation]\n'
+                     'pa_frac = 0.05\nfrequency_hz = [1000.0]\n[study]\nkind = "sweep"\n')
+    start = time.perf_counter()
+    out = run("numerics", "scene", str(scene), "--out", str(tmp_path / "out"))
+    assert out.returncode == 2 and "`taylor_degree` must be an integer <= 16" in out.stderr
+    assert time.perf_counter() - start < 20

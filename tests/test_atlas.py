@@ -142,7 +142,7 @@ def test_a_failed_task_is_reported_and_the_others_complete(where, small, monkeyp
     ({"pa_max": 0.1}, "`pa_max` must be above `pa_min`"),
     ({"pa_min": -0.1}, "`pa_min` must be"),
     ({"grid": (1, 2)}, "`fmax_hz` must equal `fmin_hz` with one point"),
-    ({"grid": (3000, 4000)}, "1176000000 lanes, more than the limit of 10000000"),
+    ({"grid": (3000, 4000)}, "1176000000 lanes, more than the limit of 2000000"),
     ({"grid": (10**9, 10**9)}, "lanes, more than the limit"),  # before allocating the axes
     ({"workers": 0}, "`workers` must be an integer >= 1"),
     ({"executor": "dask"}, "`executor` must be a concurrent.futures.Executor"),

@@ -27,6 +27,7 @@ from ._checks import (
 from ._cli import (
     PLOT_FORMATS,
     add_allow_slow,
+    add_unchecked,
     int_at_least,
     name_value,
     nonnegative_float,
@@ -73,6 +74,7 @@ __all__ = [
     "output_file",
     "plot_file",
     "add_allow_slow",
+    "add_unchecked",
     "PLOT_FORMATS",
     "processors",
     "tied_to_this_process",

@@ -15,7 +15,8 @@ import tempfile
 from pathlib import Path
 
 __all__ = ["positive_float", "nonnegative_float", "int_at_least", "output_file", "output_dir",
-           "plot_file", "run_command", "name_value", "PLOT_FORMATS", "add_allow_slow"]
+           "plot_file", "run_command", "name_value", "PLOT_FORMATS", "add_allow_slow",
+           "add_unchecked"]
 
 
 def _finite(text: str) -> float:
@@ -131,6 +132,14 @@ def add_allow_slow(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--allow-slow", action="store_true",
                         help="take an order above the one measured to take about a minute "
                              "(refused otherwise)")
+
+
+def add_unchecked(parser: argparse.ArgumentParser) -> None:
+    """``--unchecked``: go past the ranges of f_e, P_a and the contact where the answers
+    are measured to hold (refused otherwise, exit status 2, naming the range)."""
+    parser.add_argument("--unchecked", action="store_true",
+                        help="go past the ranges of f_e, P_a and the contact where the "
+                             "answers are measured to hold (at your own risk)")
 
 
 def run_command(args: argparse.Namespace) -> int:

@@ -51,6 +51,7 @@ from ._attractors import (
     initial_grid,
 )
 from ._codegen import compiled_kernels
+from ._ranges import check_tested
 from ._simulate import check_model
 from ._steady import DEFAULTS, check_accuracy, lane_steps
 
@@ -179,6 +180,7 @@ def atlas(
     max_periods: int | None = DEFAULTS["max_periods"],
     lyapunov_periods: int | None = LYAPUNOV_PERIODS,
     quiet: bool = True,
+    unchecked: bool = False,
 ) -> Atlas:
     """The attractor census at every cell of a grid of (f_e, P_a).
 
@@ -204,6 +206,9 @@ def atlas(
         As in ``attractors``.
     quiet : bool
         No progress bar (over the tasks) on stderr.
+    unchecked : bool
+        Go past the ranges of f_e, P_a and the contact where the answers are measured
+        to hold (``numerics._ranges.TESTED``); refused otherwise.
 
     Returns
     -------
@@ -229,6 +234,7 @@ def atlas(
                          "minutes on 2 processors): split the grid or take fewer initial "
                          "states.")
     frequencies, amplitudes = np.linspace(*f_axis), np.linspace(*pa_axis)
+    check_tested(frequencies[[0, -1]], amplitudes[[0, -1]], model, unchecked=unchecked)
     accuracy = _accuracy(steps_per_period, tol, max_periods, lyapunov_periods)
     executor, workers = _check_executor(executor, workers)
     start = time.perf_counter()

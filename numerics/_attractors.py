@@ -17,6 +17,7 @@ from perturb import ContactModel, eq26_numbers
 from ._lyapunov import DEFAULTS as LYAPUNOV_DEFAULTS
 from ._lyapunov import LyapunovExponents, _check_run, largest_lyapunov
 from ._orbits import Orbits
+from ._ranges import check_tested
 from ._simulate import check_model
 from ._steady import DEFAULTS, steady_states
 
@@ -154,6 +155,7 @@ def attractors(
     tol: float = DEFAULTS["tol"],
     max_periods: int | None = DEFAULTS["max_periods"],
     lyapunov_periods: int | None = LYAPUNOV_PERIODS,
+    unchecked: bool = False,
 ) -> Census:
     """Find and cluster the steady states reached from a grid of initial states.
 
@@ -173,6 +175,9 @@ def attractors(
         The largest Lyapunov exponent of each lane that does not settle is measured
         over this many periods (``largest_lyapunov``), so that chaos is told apart from
         slow transients; None: not measured.
+    unchecked : bool
+        Go past the ranges of f_e, P_a and the contact where the answers are measured
+        to hold (``numerics._ranges.TESTED``); refused otherwise.
 
     Examples
     --------
@@ -183,6 +188,7 @@ def attractors(
     model = check_model(model)
     f_e = check_positive("frequency_hz", frequency_hz)
     frac = check_positive("pa_frac", pa_frac, allow_zero=True)
+    check_tested(f_e, frac, model, unchecked=unchecked)
     (census,) = censuses([f_e], [frac], model=model, grid=grid,
                          steps_per_period=steps_per_period, tol=tol, max_periods=max_periods,
                          lyapunov_periods=lyapunov_periods)

@@ -23,6 +23,7 @@ from perturb import ContactModel, eq26_numbers
 
 from ._codegen import CacheWarning, forget_sweep_driver, sweep_driver_built
 from ._orbits import Orbits, fates
+from ._ranges import check_tested
 from ._simulate import check_model
 from ._steady import DEFAULTS, check_steps, steady_states
 from ._sweep_compiled import DriverUnusable, supported, sweep_lanes_compiled
@@ -118,6 +119,7 @@ def sweep(
     keep_orbits: bool = False,
     quiet: bool = True,
     engine: str = "auto",
+    unchecked: bool = False,
 ) -> Sweep:
     """Sweep the excitation frequency up and/or down for each force amplitude.
 
@@ -138,6 +140,9 @@ def sweep(
         taken), or point by point in Python (the reference); both give the same points.
         "auto" (the default) takes the compiled call where its driver is built for the
         model already (compiling it takes tens of seconds, once), Python otherwise.
+    unchecked : bool
+        Go past the ranges of f_e, P_a and the contact where the answers are measured
+        to hold (``numerics._ranges.TESTED``); refused otherwise.
 
     Examples
     --------
@@ -155,6 +160,7 @@ def sweep(
     if np.unique(fracs).size != fracs.size:
         raise ValueError(f"`pa_frac` must not repeat an amplitude, got {fracs.tolist()}.")
     check_steps(steps_per_period)
+    check_tested(grid, fracs, model, unchecked=unchecked)
     directions = ("up", "down") if direction == "both" else (direction,)
     states = grid.size * fracs.size * len(directions)
     if states > MAX_STATES:

@@ -57,7 +57,8 @@ def _atlas(args: argparse.Namespace) -> int:
         try:
             result = atlas(args.fmin, args.fmax, args.pa_min, args.pa_max, grid=tuple(args.grid),
                            executor=executor, workers=args.workers, model=model,
-                           steps_per_period=args.steps, tol=args.tol, quiet=args.quiet)
+                           steps_per_period=args.steps, tol=args.tol, quiet=args.quiet,
+                           unchecked=args.unchecked)
         except ValueError as error:  # e.g. more lanes than the limit: before any work
             option_error(args.parser, error, OPTIONS)
     report(result, args, "plot_atlas")

@@ -6,7 +6,15 @@ import argparse
 
 import numpy as np
 
-from common import int_at_least, nonnegative_float, note, output_file, plot_file, positive_float
+from common import (
+    add_unchecked,
+    int_at_least,
+    nonnegative_float,
+    note,
+    output_file,
+    plot_file,
+    positive_float,
+)
 from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
 from perturb._model_option import add_model_option, model_parameters
 
@@ -32,6 +40,7 @@ def _accuracy_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", metavar="FILE", type=output_file,
                         help="also write the result as JSON")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    add_unchecked(parser)
     add_model_option(parser)
 
 
@@ -89,7 +98,7 @@ def _sweep(args: argparse.Namespace) -> int:
     model = ContactModel(model_parameters(args))
     result = sweep(np.linspace(args.fmin, args.fmax, args.points), args.pa_frac,
                    direction=args.direction, model=model, steps_per_period=args.steps,
-                   tol=args.tol, quiet=args.quiet)
+                   tol=args.tol, quiet=args.quiet, unchecked=args.unchecked)
     if args.json:
         result.to_json(args.json)
     print(result)
@@ -119,7 +128,7 @@ def _attractors(args: argparse.Namespace) -> int:
     model = ContactModel(model_parameters(args))
     note(f"attractors at {args.fe} Hz, {args.pa_frac} Q ...", quiet=args.quiet)
     census = attractors(args.fe, args.pa_frac, model=model, steps_per_period=args.steps,
-                        tol=args.tol)
+                        tol=args.tol, unchecked=args.unchecked)
     if args.json:
         census.to_json(args.json)
     print(census)

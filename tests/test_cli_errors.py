@@ -225,3 +225,30 @@ def test_a_taylor_spring_of_absurd_degree_is_refused(tmp_path):
     out = run("numerics", "scene", str(scene), "--out", str(tmp_path / "out"))
     assert out.returncode == 2 and "`taylor_degree` must be an integer <= 16" in out.stderr
     assert time.perf_counter() - start < 20
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["numerics", "sweep", "--pa-frac", "0.1", "--fmin", "1e12", "--fmax", "2e12",
+      "--points", "3"], "`f_e / f_n0` (the excitation frequency over the natural one) is"),
+    (["numerics", "sweep", "--pa-frac", "7", "--points", "3"],
+     "`pa_frac` (the force amplitude over the weight Q) is 7, outside 0 to 5"),
+    (["numerics", "attractors", "--fe", "1000", "--pa-frac", "0.1", "--set", "M=1e300"],
+     "`y0_m` (the static deflection [m]) is 4.907e+143, outside"),
+    (["numerics", "attractors", "--fe", "1000", "--pa-frac", "0.1", "--set", "S=1e-300"],
+     "outside"),
+    (["numerics", "atlas", "--fmin", "1e11", "--fmax", "2e11", "--grid", "2", "2"],
+     "`f_e / f_n0`"),
+])
+def test_inputs_outside_the_tested_ranges_are_refused(argv, message):
+    out = run(*argv, "--quiet")
+    assert out.returncode == 2 and message in out.stderr and "--unchecked" in out.stderr
+    assert "Traceback" not in out.stderr
+
+
+def test_unchecked_goes_past_the_ranges():
+    from numerics import sweep
+
+    with pytest.raises(ValueError, match="`pa_frac`"):
+        sweep([1000.0], 6.0)
+    past = sweep([1000.0], 6.0, direction="up", unchecked=True)
+    assert past.runs[0].status.size == 1

@@ -31,11 +31,13 @@ bench: $(BENCH_STAMP)
 	$(PY) -m tests.benchmarks
 
 # Opt in to the compiled routes for the paper's model: the sweep driver and the order-6
-# response kernels (tens of seconds to build: bench_sweep's and bench_perturb's cold
-# rows), which engine="auto" takes once they are in the cache.
+# response kernels of both truncations (tens of seconds each to build: bench_sweep's,
+# bench_perturb's and bench_truncation's rows), which engine="auto" takes once they are
+# in the cache.
 compiled: $(STAMP)
 	$(PY) -c "from numerics import sweep; sweep([1000.0], 0.1, engine='compiled')"
 	$(PY) -c "from perturb import frequency_response as r; r([1000.0], 0.1, 6, engine='compiled')"
+	$(PY) -c "from perturb import frequency_response as r; r([1000.0], 0.1, 6, engine='compiled', truncation='paper')"
 
 # The README's figures, redrawn by the command line.
 figures: $(STAMP)

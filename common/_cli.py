@@ -146,9 +146,11 @@ def run_command(args: argparse.Namespace) -> int:
     """Run a parsed command and say in one line what went wrong, never in a traceback.
 
     - a reader of stdout that goes away (``| head``) is no error;
-    - bad input found by the toolkit (a ``ValueError``): its message, exit status 2;
+    - bad input found by the toolkit (a ``ValueError`` whose message names the argument,
+      "`name` ..."): its message, exit status 2;
     - a file system that fails (a full disk, a folder removed): its message, status 1;
-    - anything else: the traceback goes to a log file that the line names, status 1.
+    - anything else, another ``ValueError`` included: its message, and its traceback in
+      a log file that the line names, status 1.
     """
     try:
         return args.run(args) or 0
@@ -157,6 +159,10 @@ def run_command(args: argparse.Namespace) -> int:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
     except ValueError as error:
+        if not str(error).startswith("`"):  # not the toolkit's word on an argument
+            print(f"{_prog(args)}: error: {error} (the traceback is in {_traceback_log()})",
+                  file=sys.stderr)
+            return 1
         print(f"{_prog(args)}: error: {error}", file=sys.stderr)
         return 2
     except OSError as error:

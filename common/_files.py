@@ -37,16 +37,30 @@ def replacing(path: str | Path) -> Iterator[Path]:
     ['a.txt']
     """
     path = Path(path)
-    if path.exists() and not path.is_file():  # a stream: nothing to replace
+    if _stream(path):  # nothing to replace: written as it is
         yield path
         return
     tmp = path.with_name(f".{path.stem}.tmp{os.getpid()}-{threading.get_ident()}{path.suffix}")
     try:
         yield tmp
         tmp.replace(path)
+    except OSError as error:  # said of the file asked for, not of the temporary one
+        tmp.unlink(missing_ok=True)
+        raise OSError(error.errno, error.strerror, str(path)) from error
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
+
+
+def _stream(path: Path) -> bool:
+    """Whether ``path`` is a stream rather than a file: a device or a pipe, or a link to
+    a process's file descriptor (``/dev/stdout`` is one, whatever stdout points to)."""
+    if path.exists() and not path.is_file():
+        return True
+    if path.is_symlink():
+        target = str(path.resolve())
+        return target.startswith(("/proc/", "/dev/")) or "/fd/" in os.readlink(path)
+    return False
 
 
 def write_atomically(path: str | Path, text: str, encoding: str = "utf-8") -> None:

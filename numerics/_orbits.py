@@ -107,6 +107,12 @@ class Orbits(Result):
         return self.status == _FAILED
 
     @property
+    def orbit_found(self) -> np.ndarray:
+        """Settled or under-resolved: an orbit was found (an under-resolved one's error
+        estimate is above ``app_rtol``, but it is an orbit; a sweep continues from it)."""
+        return (self.status == _SUCCESS) | (self.status == int(Status.UNDER_RESOLVED))
+
+    @property
     def contact_lost(self) -> np.ndarray:
         """ymin < 0: the slider leaves the slideway (Fig. 3b-j)."""
         return self.ymin_m < 0

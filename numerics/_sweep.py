@@ -38,9 +38,12 @@ ENGINES = ("auto", "compiled", "python")
 #: A step in App by more than this factor between neighbouring points is a candidate
 #: jump: ``sweep`` checks whether it leaves the branch (``_check_jumps``).
 JUMP_RATIO = 1.3
-#: The step, relative to f_e, below which a change of App by more than ``JUMP_RATIO``
-#: is a jump (``_check_jumps``).
+#: The step, relative to f_e, to which ``_check_jumps`` halves a candidate step.
 JUMP_RESOLUTION = 1e-4
+#: The most candidate steps of one sweep that ``_check_jumps`` checks (each costs one
+#: steady state, and two per halving: some 30 at most); past them, a candidate is a jump
+#: as App's change says, unchecked, so that the check stays within the sweep's own work.
+MAX_CHECKED_STEPS = 10_000
 #: The most steady states one sweep computes (points x amplitudes x directions): about
 #: 12,000 are found per second at the paper's settings, so this is a minute or two.
 MAX_STATES = 1_000_000
@@ -51,8 +54,9 @@ class SweepRun(Orbits):
     """One amplitude swept in one direction: the ``Orbits`` columns, in the order swept.
 
     ``jumped[i]``: the sweep left its branch between points i-1 and i (checked by
-    ``sweep``: App changes by more than ``JUMP_RATIO`` within ``JUMP_RESOLUTION`` of
-    f_e when the step is swept again by bisection); None where no check was made.
+    ``sweep``, ``_check_jumps``: the orbit after the step lands elsewhere when followed
+    back, or halving the step finds two orbits, or a change that does not shrink with
+    the half); None where no check was made.
     """
 
     pa_frac: float
@@ -214,13 +218,17 @@ def _check_jumps(runs: list[SweepRun], model: ContactModel, **accuracy) -> None:
     is below ``JUMP_RESOLUTION`` of f_e (``_jump_within``). A midpoint with two orbits
     (reached from either end) is a jump; a smooth change shrinks with the half and a
     jump does not, so the step also jumps where the last half still holds a quarter of
-    the step's change. A point that does not settle counts as a jump.
+    the step's change. A point where no orbit is found (neither settled nor
+    under-resolved) counts as a jump. At most ``MAX_CHECKED_STEPS`` steps are checked.
     """
     steps = []  # (run, i): the step from point i-1 to point i
     for run in runs:
-        good = run.settled | (run.status == Status.UNDER_RESOLVED)
+        good = run.orbit_found
         run.jumped = np.zeros(run.status.size, dtype=bool)
         steps += [(run, int(i)) for i in _candidates(run.app_m) if good[i] and good[i - 1]]
+    for run, i in steps[MAX_CHECKED_STEPS:]:  # past the bound: App's change says
+        run.jumped[i] = True
+    steps = steps[:MAX_CHECKED_STEPS]
     if not steps:
         return
     column = lambda name, shift: np.array([getattr(run, name)[i - shift]  # noqa: E731
@@ -230,7 +238,7 @@ def _check_jumps(runs: list[SweepRun], model: ContactModel, **accuracy) -> None:
     back = steady_states(f_lo, p_a, model=model, y_init_m=column("y_start_m", 0),
                          v_init_m_s=column("v_start_m_s", 0), period_guess=column("period", 0),
                          app_guess_m=app_hi, **accuracy)
-    jumped = ~back.settled | (back.period != column("period", 1)) | (
+    jumped = ~back.orbit_found | (back.period != column("period", 1)) | (
         np.abs(back.app_m / app_lo - 1) > 0.01)
     same = np.flatnonzero(~jumped)
     if same.size:
@@ -265,7 +273,7 @@ def _jump_within(lo: dict, hi: dict, model, accuracy) -> np.ndarray:
                                  ("period_guess", "period"), ("app_guess_m", "app"))},
             **accuracy)
         n = active.size
-        good = both.settled | (both.status == Status.UNDER_RESOLVED)
+        good = both.orbit_found
         good = good[:n] & good[n:]
         app = both.app_m[:n]
         two = (both.period[:n] != both.period[n:]) | (np.abs(both.app_m[n:] / app - 1) > 0.01)
@@ -348,7 +356,7 @@ def _sweep_lanes_python(freq, p_a, model, quiet, start: Orbits | None = None,
                               period_guess=period, app_guess_m=continued, **accuracy)
         # A settled orbit seeds the next point, an under-resolved one too (it is an
         # orbit, only its error estimate is above app_rtol); a failed or unsettled one never.
-        good = point.settled | (point.status == Status.UNDER_RESOLVED)
+        good = point.orbit_found
         y = np.where(good, point.y_start_m, y)
         v = np.where(good, point.v_start_m_s, v)
         app = np.where(good, point.app_m, app)

@@ -111,6 +111,8 @@ def _backbone(args: argparse.Namespace) -> None:
 
 def _response(args: argparse.Namespace) -> None:
     frequency_hz = np.linspace(args.fmin, args.fmax, args.points)
+    check_slow_order(args.order, "response", args.truncation, model_parameters(args),
+                     allow_slow=args.allow_slow)  # before the note of the work
     note(f"response of order {args.order} at {args.points} frequencies ...", quiet=args.quiet)
     response = frequency_response(frequency_hz, args.pa_frac, args.order,
                                   parameters=model_parameters(args), truncation=args.truncation,

@@ -174,9 +174,8 @@ class SeriesValues(Eq26Numbers):
             else:
                 value = p.S * p.h_n / p.M * binomial(p.l, j) * y0 ** (p.l - j)
         except OverflowError:  # y0^(m2 - j): a series of this order needs it
-            raise ValueError(f"{kind}_{j} of this contact (y0 = {y0:.3g} m) leaves the "
-                             "floating-point range: a series that keeps it is of too high an "
-                             "order for numbers") from None
+            raise ValueError(f"`order` is too high for numbers at this contact: {kind}_{j} "
+                             f"(y0 = {y0:.3g} m) leaves the floating-point range") from None
         return 0.0 if value == 0 else float(value)
 
 

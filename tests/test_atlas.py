@@ -294,33 +294,34 @@ def test_beyond_the_fold_curves_end_the_bistable_cells_are_between_the_folds_in_
     assert inside.sum() == 25
 
 
-def test_the_atlas_survives_a_lost_worker(monkeypatch):
-    # One of the two workers is killed while the pool runs: the tasks lost with the
-    # broken pool are run again on a fresh one, and the atlas is the undisturbed one,
-    # cell for cell, saying how many tasks ran again.
+_KILL = {}  # the marker file and the task runner of the test below, for forked workers
+
+
+def _killed_once(*task):
+    """The atlas's task, but the first to start kills its own worker process."""
     import os
     import signal
-    import threading
-    import time
 
+    try:
+        os.close(os.open(_KILL["marker"], os.O_CREAT | os.O_EXCL))
+    except FileExistsError:
+        return _KILL["run_task"](*task)
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+def test_the_atlas_survives_a_lost_worker(monkeypatch, tmp_path):
+    # The first task to start kills its own worker process (a marker file, created once,
+    # says which): the pool breaks, the tasks lost with it run again on a fresh pool,
+    # and the atlas is the undisturbed one, cell for cell, saying how many ran again.
     from numerics import _atlas
 
     args = (400.0, 800.0, 0.1, 0.5)
     undisturbed = atlas(*args, grid=(12, 6), workers=2)
-    submit, killed = _atlas._submit, []
-
-    def kill_one_worker(pool, *rest, **kwargs):
-        if not killed:
-            def kill():
-                time.sleep(0.5)
-                killed.append(next(iter(pool._processes)))
-                os.kill(killed[0], signal.SIGKILL)
-            threading.Thread(target=kill).start()
-        return submit(pool, *rest, **kwargs)
-
-    monkeypatch.setattr(_atlas, "_submit", kill_one_worker)
+    monkeypatch.setitem(_KILL, "marker", tmp_path / "killed")
+    monkeypatch.setitem(_KILL, "run_task", _atlas._run_task)
+    monkeypatch.setattr(_atlas, "_run_task", _killed_once)  # forked workers inherit it
     disturbed = atlas(*args, grid=(12, 6), workers=2)
-    assert killed and disturbed.settings["tasks_retried"] >= 1
+    assert (tmp_path / "killed").exists() and disturbed.settings["tasks_retried"] >= 1
     assert "run again after a worker was lost" in disturbed.summary()
     disturbed.settings.pop("tasks_retried")
     undisturbed.settings.pop("tasks_retried")

@@ -1,7 +1,8 @@
 """What a command says when it cannot do what it was asked: one line, never a traceback.
 
-Exit status 2 for bad input (before any work), 1 for a failure while working; an
-unexpected error writes its traceback to a log file and names it.
+Bad command-line input is an argparse error (exit 2) naming the option, before any
+work; so is work past its bounds and input outside the tested ranges. A failure while
+working is status 1; an unexpected error writes its traceback to a log file and names it.
 """
 
 import errno
@@ -10,6 +11,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from common import PLOT_FORMATS
@@ -19,6 +21,31 @@ from numerics import cli
 def run(*args: str, **kwargs) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", *args], capture_output=True, text=True,
                           **kwargs)
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["sweep", "--fmin", "0"], "--fmin: must be a finite number > 0, got '0'"),
+        (["sweep", "--pa-frac", "-0.1"], "--pa-frac: must be a finite number >= 0"),
+        (["sweep", "--pa-frac", "nan"], "--pa-frac: must be finite, got 'nan'"),
+        (["sweep", "--fmax", "inf"], "--fmax: must be finite, got 'inf'"),
+        (["sweep", "--steps", "3"], "--steps: must be an integer >= 4, got '3'"),
+        (["sweep", "--points", "1"], "--points: must be an integer >= 2, got '1'"),
+        (["sweep", "--tol", "-1"], "--tol: must be a finite number > 0"),
+        (["sweep", "--fmin", "900", "--fmax", "800"], "--fmax: must be above --fmin"),
+        (["sweep", "--plot", "/proc/fig.png"], "argument --plot"),
+        (["sweep", "--json", "/nonexistent/x.json"], "--json: folder '/nonexistent'"),
+        (["attractors", "--fe", "0", "--pa-frac", "0.1"], "--fe: must be a finite number > 0"),
+        (["attractors", "--fe", "500", "--pa-frac", "-1"], "--pa-frac: must be a finite"),
+        (["info", "--json", "/nope/a.json"], "--json: folder '/nope' does not exist"),
+    ],
+)
+def test_bad_input_names_the_option(argv, message, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        cli.main(argv)
+    assert exit_.value.code == 2
+    assert message in capsys.readouterr().err
 
 
 def test_the_plot_formats_are_matplotlibs():
@@ -38,7 +65,9 @@ def test_an_unsupported_plot_format_is_refused_before_the_work(tmp_path):
 
 
 def test_a_full_disk_is_one_line_and_status_1(tmp_path, monkeypatch, capsys):
-    def full_disk(self, *args, **kwargs):
+    def full_disk(self, text, *args, **kwargs):  # a part written, then the disk is full
+        with open(self, "w") as file:
+            file.write(text[:3])
         raise OSError(errno.ENOSPC, "No space left on device", str(self))
 
     monkeypatch.setattr(Path, "write_text", full_disk)
@@ -46,19 +75,17 @@ def test_a_full_disk_is_one_line_and_status_1(tmp_path, monkeypatch, capsys):
                      "--points", "3", "--quiet", "--json", str(tmp_path / "run.json")])
     err = capsys.readouterr().err
     assert code == 1 and "No space left on device" in err and "Traceback" not in err
+    assert f"{tmp_path / 'run.json'}" in err  # the file asked for, not the temporary one
     assert not list(tmp_path.iterdir())  # no half-written file, no temporary one
 
 
 def test_an_unexpected_error_goes_to_a_log_file(monkeypatch, capsys):
-    from numerics.cli import _info
-
     def broken(args):
         raise RuntimeError("a bug")
 
     parser = cli.build_parser()
     args = parser.parse_args(["info"])
     monkeypatch.setattr(args, "run", broken)
-    assert _info is not None
     from common import run_command
 
     assert run_command(args) == 1
@@ -91,11 +118,27 @@ def test_a_scene_nested_too_deep_is_one_line(tmp_path):
     assert "nests its tables or arrays too deep" in out.stderr
 
 
-@pytest.mark.parametrize("argv", [["info", "--json", "/dev/stdout"]])
-def test_a_stream_is_written_as_a_stream(argv):
-    out = run("numerics", *argv)
-    assert out.returncode == 0 and '"y0_m": 2.25185562534611e-07' in out.stdout
-    assert Path("/dev/stdout").is_symlink() or not Path("/dev/stdout").exists()
+def test_a_link_to_stdout_is_written_as_a_stream(tmp_path):
+    # As /dev/stdout is: a link to the process's descriptor 1, here redirected to a
+    # file. The link is written through, not replaced.
+    link = tmp_path / "stdout"
+    link.symlink_to("/proc/self/fd/1")
+    with open(tmp_path / "out.txt", "w") as out:
+        done = subprocess.run([sys.executable, "-m", "numerics", "info", "--json", str(link)],
+                              stdout=out, stderr=subprocess.PIPE, text=True)
+    assert done.returncode == 0 and link.is_symlink()
+    assert '"y0_m": 2.25185562534611e-07' in (tmp_path / "out.txt").read_text()
+
+
+def test_another_value_error_is_status_1_with_a_log(monkeypatch, capsys):
+    from common import run_command
+
+    args = cli.build_parser().parse_args(["info"])
+    monkeypatch.setattr(args, "run", lambda args: np.add(np.ones(2), np.ones(3)))
+    assert run_command(args) == 1
+    err = capsys.readouterr().err
+    assert "operands could not be broadcast" in err and "the traceback is in" in err
+    Path(err.rsplit("the traceback is in ", 1)[1].strip().rstrip(")")).unlink()
 
 
 def test_a_scene_never_writes_through_a_symlink_in_its_folder(tmp_path):

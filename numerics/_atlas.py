@@ -405,7 +405,12 @@ def _check_executor(executor, workers) -> tuple[Executor | None, int]:
             raise ValueError("`workers` sizes the default pool: give `executor` or "
                              f"`workers`, not both (got workers={workers!r}).")
         return executor, 0
-    return None, processors() if workers is None else check_int("workers", workers)
+    if workers is None:
+        return None, processors()
+    # Each worker is a process that holds the model's kernels; past the processors
+    # they only wait their turn.
+    return None, check_int("workers", workers, maximum=2 * processors(),
+                           why=f"twice the {processors()} processors this process may use")
 
 
 def _grid_size(grid, axis: int) -> int:

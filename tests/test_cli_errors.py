@@ -252,6 +252,8 @@ def test_allow_slow_goes_past_the_limit():
     (["numerics", "backbone", "--points", "1000000"], "must be an integer <= 100000"),
     (["numerics", "continue", "--pa-frac", "0.05", "--steps", "16777216"],
      "must be an integer <= 1048576"),
+    (["numerics", "atlas", "--grid", "2", "2", "--workers", "100000", "--quiet"],
+     "twice the"),
 ])
 def test_work_past_its_bound_is_refused_at_once(argv, message):
     start = time.perf_counter()

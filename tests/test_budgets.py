@@ -1,0 +1,78 @@
+"""Every option that sizes the work is checked where it enters, before any work: a value
+is taken only up to a limit measured to stay within time and memory, and refused past
+it with exit status 2 and one line naming the option.
+
+Hypothesis feeds each option sizes from 1 to 10^12. Refusal is checked by running the
+command's parser (argparse types) and the API's own checks, which raise before any
+allocation; an accepted size is held to the measured limit (the tests that measure the
+limits: tests/test_cli_errors.py, tests/test_backbone.py)."""
+
+import argparse
+import contextlib
+import io
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from numerics import cli
+from numerics._atlas import MAX_LANES
+from numerics._backbone import MAX_POINTS
+from numerics._steady import MAX_STEPS
+from numerics._sweep import MAX_STATES
+from perturb.__main__ import _parser as perturb_parser
+
+SIZES = st.integers(1, 10**12)
+
+
+def parses(parser: argparse.ArgumentParser, argv: list[str]) -> bool:
+    """Whether ``argv`` parses; a refusal must be argparse's (exit 2), never another
+    (its message on stderr is kept out of the test's output)."""
+    try:
+        with contextlib.redirect_stderr(io.StringIO()):
+            parser.parse_args(argv)
+    except SystemExit as exit_:
+        assert exit_.code == 2
+        return False
+    return True
+
+
+@settings(max_examples=60, deadline=None)
+@given(size=SIZES, option=st.sampled_from([
+    (["sweep", "--points"], 2, MAX_STATES), (["sweep", "--steps"], 4, MAX_STEPS),
+    (["attractors", "--fe", "1000", "--pa-frac", "0.1", "--steps"], 4, MAX_STEPS),
+    (["continue", "--pa-frac", "0.05", "--steps"], 4, MAX_STEPS),
+    (["backbone", "--points"], 1, MAX_POINTS),
+]))
+def test_numerics_sizes_are_taken_up_to_their_limit(size, option):
+    argv, least, limit = option
+    assert parses(cli.build_parser(), [*argv, str(size)]) == (least <= size <= limit)
+
+
+@settings(max_examples=40, deadline=None)
+@given(cells=st.tuples(st.integers(2, 10**12), st.integers(2, 10**12)))
+def test_an_atlas_is_refused_past_its_lanes_before_any_work(cells):
+    from numerics import atlas
+
+    lanes = cells[0] * cells[1] * 98  # the command's default initial states
+    if lanes <= MAX_LANES:
+        return  # taken (the limit's time: tests/test_cli_errors.py)
+    with pytest.raises(ValueError, match="more than the limit"):
+        atlas(400.0, 800.0, 0.1, 0.5, grid=cells, workers=1)
+
+
+@settings(max_examples=40, deadline=None)
+@given(order=st.integers(0, 10**6), command=st.sampled_from([
+    (["derive"], 24), (["backbone"], 100),
+    (["response", "--pa-frac", "0.05", "--points", "3"], 24)]))
+def test_an_order_past_its_limit_is_refused_before_any_work(order, command):
+    from perturb._slow_orders import check_slow_order
+
+    argv, limit = command
+    args = perturb_parser().parse_args([argv[0], "--order", str(order), *argv[1:]])
+    work = "derive" if argv[0] == "derive" else argv[0]
+    if order <= limit:
+        assert check_slow_order(args.order, work, "paper") == order
+    else:
+        with pytest.raises(ValueError, match=f"is above {limit}"):
+            check_slow_order(args.order, work, "paper", allow_slow=args.allow_slow)

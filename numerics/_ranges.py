@@ -4,8 +4,11 @@ The property tests (``tests/test_properties.py``) run steady states over forces 
 0 to 5 Q and frequencies from 1 Hz to 1 MHz on the paper's contact, and over contacts
 with m2 from 1 to 3, l from 0 to 2 and a damping from 1e-3 to 10 times the paper's,
 which gives static deflections y0 from 5e-14 to 4e-5 m and natural frequencies f_n0
-from 140 Hz to 2.3 MHz. Every result there is sound. Far outside, answers are not
-known to hold: above some 1e12 Hz a sweep reported "rest" states hovering above the
+from 140 Hz to 2.3 MHz. Every result there is sound. The damping is widened where
+other tests check the answers: the scenes' other contacts (m2 = 1.5, l = 0.5 at the
+paper's c_n and h_n: c / omega0 = 0.27; l = 0.5 alone: 38), in tests/test_scenes.py
+and the example other-contact.toml, against the full model and the API. Far outside,
+answers are not known to hold: above some 1e12 Hz a sweep reported "rest" states hovering above the
 slideway, and at M = 1e300 App was lost to round-off and reported as settled.
 
 ``check_tested`` refuses a study outside these ranges with a ``ValueError`` that names
@@ -28,7 +31,8 @@ TESTED: dict[str, tuple[float, float, str]] = {
     "pa_frac": (0.0, 5.0, "the force amplitude over the weight Q"),
     "m2": (1.0, 3.0, "the spring's exponent"),
     "l": (0.0, 2.0, "the damper's exponent"),
-    "damping_ratio": (1.8e-5, 0.18, "c / omega0 (1e-3 to 10 times the paper's 0.018)"),
+    "damping_ratio": (1.8e-5, 40.0, "c / omega0, from 1e-3 times the paper's 0.018 to a "
+                      "contact damped far past critical"),
     "y0_m": (5e-14, 4e-5, "the static deflection [m]"),
     "f_n0_hz": (140.0, 2.3e6, "the natural frequency [Hz]"),
 }

@@ -11,8 +11,9 @@ is only slow.
 
 from __future__ import annotations
 
+from common import check_int
+
 from ._parameters import ContactParameters
-from ._series_symbols import check_order
 from ._truncation import Truncation, truncation_for
 
 __all__ = ["check_slow_order", "SLOW_ORDERS"]
@@ -54,7 +55,7 @@ polynomial law (measured: python -m perturb response --order N --truncation pape
 frequencies: order 14 4.5 s, 18 9.3 s, 22 14 s); it is slow, not wrong: \
 allow_slow=True (--allow-slow) goes on.
     """
-    order = check_order(order)
+    order = check_int("order", order, minimum=0)  # (no sympy: a warm response needs none)
     kind = _kind(work, truncation, parameters)
     limit, measured = SLOW_ORDERS[work, kind]
     if order > limit and not allow_slow:

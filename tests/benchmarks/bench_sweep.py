@@ -19,10 +19,11 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from unittest import mock
 
 import numpy as np
 
-from numerics import _sweep_compiled, compiled_kernels, sweep
+from numerics import _sweep, _sweep_compiled, compiled_kernels, sweep
 from perturb import PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel, eq26_numbers
 
 from ._textbook import PARAMETERS, brute_force_sweep, dop853_point
@@ -87,6 +88,15 @@ def in_one_thread(job):
     return run
 
 
+def _without_jump_check(job):
+    """``job`` with the sweep's jump check left out (``SweepRun.jumps`` then falls back
+    to App's ratio between neighbours)."""
+    def run():
+        with mock.patch.object(_sweep, "_check_jumps", lambda runs, model, **accuracy: None):
+            return job()
+    return run
+
+
 def _json_seconds(result) -> tuple[float, float]:
     """Medians, in turns: ``to_json`` of the job's result, and the text the json module
     gives with an indent (the pure-Python encoder) of the same data."""
@@ -110,6 +120,8 @@ def main() -> None:
     # 11 pairs: at load 1.0 (2026-11-23), with 7, the checked job took 0.221 s here and
     # 0.165 s in its pairs with the Python route just before: the machine, not the check.
     warm_checked, warm_unchecked = interleaved_medians(job, unchecked, repeats=11)
+    jumps_checked, jumps_unchecked = interleaved_medians(job, _without_jump_check(job),
+                                                         repeats=9)
     cold, cold_python = cold_start(), cold_start("python")
     brute, brute_gap = brute_force(result)
     scipy_s = dop853(result)
@@ -129,6 +141,8 @@ def main() -> None:
     row("with the step-error check [s] vs without (goal >= 0.83x)", warm_checked,
         warm_unchecked, "s",
         higher_is_better=False)
+    row("with the jump check [s] vs without (the ratio of App alone)", jumps_checked,
+        jumps_unchecked, "s", higher_is_better=False)
     row("cold start: import + compile + job [s] vs Python-driven", cold, cold_python, "s",
         higher_is_better=False)
     written, indented = _json_seconds(result)

@@ -38,7 +38,7 @@ TESTED: dict[str, tuple[float, float, str]] = {
 }
 
 _WHY = ("where the toolkit's answers are measured to hold (tests/test_properties.py); "
-        "unchecked=True (--unchecked on sweep, attractors and atlas) goes past it")
+        "unchecked=True (--unchecked; a scene's unchecked = true) goes past it")
 
 
 def check_tested(frequency_hz, pa_frac, model: ContactModel, *,

@@ -297,3 +297,14 @@ def test_unchecked_goes_past_the_ranges():
         sweep([1000.0], 6.0)
     past = sweep([1000.0], 6.0, direction="up", unchecked=True)
     assert past.runs[0].status.size == 1
+
+
+def test_a_scene_past_the_ranges_is_refused_unless_unchecked(tmp_path):
+    from numerics.scenes import parse_scene, run_scene
+
+    text = ('[excitation]\npa_frac = 6.0\nfrequency_hz = [1000.0]\n'
+            '[study]\nkind = "sweep"\ndirection = "up"\n')
+    with pytest.raises(ValueError, match="a scene's unchecked = true"):
+        run_scene(parse_scene(text))
+    run = run_scene(parse_scene("unchecked = true\n" + text))
+    assert run.outcomes[0].runs[0].status.size == 1

@@ -190,7 +190,7 @@ def _fixed_effects(kind: str, options: dict) -> str | None:
 
 
 _TOP = ("title", "description", "effects", "observables", "tolerance", "model", "excitation",
-        "study", "output")
+        "study", "output", "unchecked")
 _EXCITATION = ("pa_frac", "frequency_hz")
 _RANGE = ("start", "stop", "count")
 _OUTPUT = ("json", "figures", "animation", "text")
@@ -229,6 +229,8 @@ class Scene:
     text: str | None
     animation: dict | None
     overrides: dict = field(default_factory=dict)
+    #: Past the ranges where the answers are measured to hold (``numerics._ranges``).
+    unchecked: bool = False
 
     @property
     def auto(self) -> bool:
@@ -242,7 +244,7 @@ class Scene:
                 "study": self.study, "options": self.options,
                 "observables": list(self.observables), "tolerance": self.tolerance,
                 "figures": self.figures, "json": self.json, "text": self.text,
-                "animation": self.animation}
+                "animation": self.animation, "unchecked": self.unchecked}
 
 
 def read_scene(path: str | Path) -> Scene:
@@ -381,6 +383,8 @@ class _Reader:
             text=self.file_name("output.text", output["text"]) if "text" in output else None,
             animation=self.animation(output.get("animation"), kind),
             overrides=overrides,
+            unchecked=self.option("unchecked", data.get("unchecked", False),
+                                  Option("bool", False)),
         )
 
     def options(self, kind: str, study: Study, table: dict) -> dict:

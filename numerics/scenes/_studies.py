@@ -50,7 +50,8 @@ def _sweep(scene, model, grid, quiet) -> StudyRun:
     keep = bool(_NEED_ORBIT & set(scene.observables))
     result = sweep(grid, scene.pa_frac, direction=scene.options["direction"], model=model,
                    steps_per_period=scene.options["steps_per_period"],
-                   app_rtol=scene.tolerance, keep_orbits=keep, quiet=quiet)
+                   app_rtol=scene.tolerance, keep_orbits=keep, quiet=quiet,
+                   unchecked=scene.unchecked)
     recorder = "steady states: extrema of one response period"
     return StudyRun([result], recorder + (", and y after every step of it" if keep else ""))
 
@@ -58,7 +59,8 @@ def _sweep(scene, model, grid, quiet) -> StudyRun:
 def _attractors(scene, model, grid, quiet) -> StudyRun:
     from .._attractors import attractors
 
-    censuses = [attractors(f, frac, model=model, steps_per_period=scene.options["steps_per_period"])
+    censuses = [attractors(f, frac, model=model, steps_per_period=scene.options["steps_per_period"],
+                           unchecked=scene.unchecked)
                 for f, frac in _pairs(scene, grid)]
     return StudyRun(censuses, "steady states from a grid of initial states: extrema and y after "
                               "every step of each attractor's period")
@@ -205,7 +207,7 @@ def _atlas(scene, model, grid, quiet) -> StudyRun:
                   grid=(grid.size, len(scene.pa_frac)), workers=opts["workers"],
                   initial_states={name: opts[name] for name in ("y_over_y0", "v_over_omega0_y0")},
                   model=model, steps_per_period=opts["steps_per_period"], tol=opts["tol"],
-                  quiet=quiet)
+                  quiet=quiet, unchecked=scene.unchecked)
     recorder = ("the attractor census of every cell: steady states from each initial state, "
                 "their extrema and y after every step of each attractor's period")
     if not opts["overlay_folds"]:

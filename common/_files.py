@@ -44,9 +44,12 @@ def replacing(path: str | Path) -> Iterator[Path]:
     try:
         yield tmp
         tmp.replace(path)
-    except OSError as error:  # said of the file asked for, not of the temporary one
+    except OSError as error:
         tmp.unlink(missing_ok=True)
-        raise OSError(error.errno, error.strerror, str(path)) from error
+        if error.errno is not None and error.filename in (str(tmp), tmp):
+            # Said of the file asked for, not of the temporary one.
+            raise OSError(error.errno, error.strerror, str(path)) from error
+        raise
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
@@ -57,10 +60,7 @@ def _stream(path: Path) -> bool:
     a process's file descriptor (``/dev/stdout`` is one, whatever stdout points to)."""
     if path.exists() and not path.is_file():
         return True
-    if path.is_symlink():
-        target = str(path.resolve())
-        return target.startswith(("/proc/", "/dev/")) or "/fd/" in os.readlink(path)
-    return False
+    return path.is_symlink() and os.readlink(path).startswith(("/proc/", "/dev/fd/"))
 
 
 def write_atomically(path: str | Path, text: str, encoding: str = "utf-8") -> None:

@@ -250,7 +250,7 @@ def atlas(
                    for cell in _cells_of(task, outcome)]
     settings = census_settings(initial_states, states, **accuracy)
     settings |= {"cells": [frequencies.size, amplitudes.size], "tasks": len(tasks),
-                 "tasks_retried": retried}
+                 "tasks_retried": retried, **({"unchecked": True} if unchecked else {})}
     return Atlas(frequency_hz=frequencies, pa_frac=amplitudes, model=model.as_dict(),
                  settings=settings, elapsed_s=time.perf_counter() - start,
                  **_assemble(cells_found, amplitudes.size, frequencies.size))
@@ -324,18 +324,20 @@ def _run(jobs: list[tuple], executor: Executor | None, workers: int, model: Cont
         if workers == 1:
             return _run_here(jobs, quiet), 0
     outcomes: list = [None] * len(jobs)
-    pending, retried = list(range(len(jobs))), 0
+    pending, retried = list(range(len(jobs))), set()
     bar = progress(len(jobs), "atlas tasks", quiet=quiet)
     for attempt in range(RETRIES + 1 if own else 1):
         pool = _local_pool(min(workers, len(pending))) if own else executor
         lost = _submit(pool, [jobs[k] for k in pending], pending, outcomes, bar, own)
         if not lost:
             break
-        if attempt < RETRIES and own:
-            retried += len(lost)
-            pending = lost
+        if attempt == RETRIES:  # lost for good: reported as failed, with the pool's message
+            bar.update(len(lost))
+            break
+        retried.update(lost)
+        pending = lost
     bar.close()
-    return outcomes, retried
+    return outcomes, len(retried)
 
 
 def _submit(pool: Executor, jobs: list[tuple], index: list[int], outcomes: list, bar,
@@ -346,7 +348,14 @@ def _submit(pool: Executor, jobs: list[tuple], index: list[int], outcomes: list,
     futures: dict[Future, int] = {}
     lost = []
     try:
-        futures = {pool.submit(*job): k for k, job in zip(index, jobs)}
+        for k, job in zip(index, jobs):
+            try:
+                futures[pool.submit(*job)] = k
+            except BrokenProcessPool as error:  # broke while tasks were still submitted
+                if not own:
+                    raise
+                outcomes[k] = _message(error)
+                lost.append(k)
         for future in as_completed(futures):
             k = futures[future]
             outcomes[k] = _outcome(future)

@@ -34,6 +34,7 @@ from ._compare_response import (
     compare_response,
     steady_curves,
 )
+from ._ranges import check_tested
 
 __all__ = ["Comparison", "compare", "model_parting"]
 
@@ -149,6 +150,7 @@ def compare(
     quiet: bool = True,
     truncation: str = "consistent",
     allow_slow: bool = False,
+    unchecked: bool = False,
 ) -> Comparison:
     """Series of each order against the exact backbone and RK4 steady states.
 
@@ -176,6 +178,9 @@ def compare(
     allow_slow : bool
         Take orders above the one measured to take about a minute
         (``perturb.frequency_response``'s); refused otherwise.
+    unchecked : bool
+        Go past the ranges of f_e, P_a and the contact where the answers are measured
+        to hold (``numerics._ranges.TESTED``); refused otherwise.
 
     Returns
     -------
@@ -200,6 +205,7 @@ def compare(
     truncation = truncation_for(truncation, parameters).name  # a bad name: a ValueError
     for n in orders:  # before any work
         check_slow_order(n, "response", truncation, parameters, allow_slow=allow_slow)
+    check_tested(grid, pa_frac, ContactModel(parameters), unchecked=unchecked)
     backbone = compare_backbones(orders, model=ContactModel(parameters), tolerance=tolerance,
                                  truncation=truncation, allow_slow=allow_slow)
     limits = dict(zip(backbone.orders, backbone.limit_app_m))

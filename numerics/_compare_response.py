@@ -138,7 +138,7 @@ class ResponseComparison(Result):
 def _one_direction(grid, pa_frac, model, direction, steps) -> Orbits | str:
     """The points of one sweep, on the increasing grid; a message if the sweep breaks down."""
     try:
-        run = sweep(grid, pa_frac, direction=direction, model=model,
+        run = sweep(grid, pa_frac, direction=direction, model=model, unchecked=True,
                     steps_per_period=steps).runs[0]
     except ValueError as error:  # a lane went non-finite (Eq. 2.6 escapes past its barrier)
         return f"{direction} sweep failed ({error}); steady states from rest instead"
@@ -172,9 +172,11 @@ def steady_curves(grid, pa_fracs, model_name: str, steps_per_period: int = 128,
     faster than one call each); where that call breaks down, amplitude by amplitude."""
     check_choice("model_name", model_name, sorted(MODELS))
     model = ContactModel(parameters, MODELS[model_name])
+    # The ranges are the caller's to check (``compare`` does): a ValueError here is a
+    # lane that went non-finite.
     try:
         runs = sweep(grid, list(pa_fracs), direction="both", model=model,
-                     steps_per_period=steps_per_period)
+                     steps_per_period=steps_per_period, unchecked=True)
     except ValueError:  # a lane went non-finite: find which amplitude, one by one
         return [steady_curve(grid, frac, model_name, steps_per_period, parameters)
                 for frac in pa_fracs]

@@ -41,8 +41,9 @@ JUMP_RATIO = 1.3
 #: The step, relative to f_e, to which ``_check_jumps`` halves a candidate step.
 JUMP_RESOLUTION = 1e-4
 #: The most candidate steps of one sweep that ``_check_jumps`` checks (each costs one
-#: steady state, and two per halving: some 30 at most); past them, a candidate is a jump
-#: as App's change says, unchecked, so that the check stays within the sweep's own work.
+#: steady state, and two per halving: some 30 at most); past them no step is checked
+#: (``jumped`` is None: jumps by App's change alone), so that the check stays within the
+#: sweep's own work.
 MAX_CHECKED_STEPS = 10_000
 #: The most steady states one sweep computes (points x amplitudes x directions): about
 #: 12,000 are found per second at the paper's settings, so this is a minute or two.
@@ -192,7 +193,8 @@ def sweep(
     settings = {"frequency_hz": grid.tolist(), "pa_frac": fracs.tolist(), "direction": direction,
                 "steps_per_period": steps_per_period, "tol": tol, "app_rtol": app_rtol,
                 "max_periods": max_periods,
-                "method": method, "refinements": refinements, "keep_orbits": keep_orbits}
+                "method": method, "refinements": refinements, "keep_orbits": keep_orbits,
+                **({"unchecked": True} if unchecked else {})}
     return Sweep(model=model.as_dict(), settings=settings, runs=runs,
                  elapsed_s=time.perf_counter() - start)
 
@@ -219,16 +221,18 @@ def _check_jumps(runs: list[SweepRun], model: ContactModel, **accuracy) -> None:
     (reached from either end) is a jump; a smooth change shrinks with the half and a
     jump does not, so the step also jumps where the last half still holds a quarter of
     the step's change. A point where no orbit is found (neither settled nor
-    under-resolved) counts as a jump. At most ``MAX_CHECKED_STEPS`` steps are checked.
+    under-resolved) counts as a jump. A sweep with more than ``MAX_CHECKED_STEPS``
+    candidate steps is not checked (``jumped`` stays None).
     """
     steps = []  # (run, i): the step from point i-1 to point i
     for run in runs:
         good = run.orbit_found
         run.jumped = np.zeros(run.status.size, dtype=bool)
         steps += [(run, int(i)) for i in _candidates(run.app_m) if good[i] and good[i - 1]]
-    for run, i in steps[MAX_CHECKED_STEPS:]:  # past the bound: App's change says
-        run.jumped[i] = True
-    steps = steps[:MAX_CHECKED_STEPS]
+    if len(steps) > MAX_CHECKED_STEPS:  # past the bound: no run is checked, and each
+        for run in runs:  # says so (``jumped`` None: App's ratio alone)
+            run.jumped = None
+        return
     if not steps:
         return
     column = lambda name, shift: np.array([getattr(run, name)[i - shift]  # noqa: E731

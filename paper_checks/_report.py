@@ -100,6 +100,7 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
     them here, one after the other).
     """
     start = time.perf_counter() if started is None else started
+    (out / "report.md").unlink(missing_ok=True)  # a run stopped before its end leaves none
     scene = PaperScene(quick=quick, out=out)
     with worker_pool(processors() if jobs is None else jobs) as pool:
         if pool is not None:
@@ -140,6 +141,6 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
                "timings": scene.timings, "work_precision": work.as_dict(),
                "figures": figures, "quick": quick, "run": this_run}
     write_json(out / "report.json", payload)
-    # The report last, whole or not at all: a run stopped before it leaves none.
+    # The report last, whole or not at all (the old one was removed at the start).
     write_atomically(out / "report.md", "\n".join(lines) + "\n")
     return payload

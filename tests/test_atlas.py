@@ -131,6 +131,7 @@ def test_a_failed_task_is_reported_and_the_others_complete(where, small, monkeyp
     assert (found.attractor_count[0, :2] == small.attractor_count[0, :2]).all()
     assert found.attractor_basins[0][:2] == small.attractor_basins[0][:2]
     assert "failed (4 cells): RuntimeError: injected failure" in str(found)
+    assert found.settings["tasks_retried"] == 0  # a task's own error is not run again
 
 
 @pytest.mark.parametrize("change, match", [

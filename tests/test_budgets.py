@@ -70,9 +70,8 @@ def test_an_order_past_its_limit_is_refused_before_any_work(order, command):
 
     argv, limit = command
     args = perturb_parser().parse_args([argv[0], "--order", str(order), *argv[1:]])
-    work = "derive" if argv[0] == "derive" else argv[0]
     if order <= limit:
-        assert check_slow_order(args.order, work, "paper") == order
-    else:
+        assert check_slow_order(args.order, argv[0], "paper") == order
+    else:  # (tests/test_cli_errors.py runs each command past its limit)
         with pytest.raises(ValueError, match=f"is above {limit}"):
-            check_slow_order(args.order, work, "paper", allow_slow=args.allow_slow)
+            check_slow_order(args.order, argv[0], "paper", allow_slow=args.allow_slow)

@@ -283,6 +283,7 @@ def test_a_taylor_spring_of_absurd_degree_is_refused(tmp_path):
      "outside"),
     (["numerics", "atlas", "--fmin", "1e11", "--fmax", "2e11", "--grid", "2", "2"],
      "`f_e / f_n0`"),
+    (["numerics", "compare", "--orders", "2", "--pa-frac", "6"], "`pa_frac`"),
 ])
 def test_inputs_outside_the_tested_ranges_are_refused(argv, message):
     out = run(*argv, "--quiet")

@@ -4,7 +4,14 @@ from __future__ import annotations
 
 import argparse
 
-from common import add_allow_slow, int_at_least, nonnegative_float, output_file, plot_file
+from common import (
+    add_allow_slow,
+    add_unchecked,
+    int_at_least,
+    nonnegative_float,
+    output_file,
+    plot_file,
+)
 from perturb._model_option import add_model_option, model_parameters
 from perturb._truncation import TRUNCATIONS
 
@@ -29,6 +36,7 @@ def add_compare_parser(sub) -> None:
                         help="draw the comparison there")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     add_allow_slow(parser)
+    add_unchecked(parser)
     add_model_option(parser)
     parser.set_defaults(run=_compare)
 
@@ -40,7 +48,8 @@ def _compare(args: argparse.Namespace) -> int:
     # the option); compare() checks them again for callers from Python.
     result = compare(sorted(set(args.orders)), sorted(set(args.pa_frac)),
                      parameters=model_parameters(args), quiet=args.quiet,
-                     truncation=args.truncation, allow_slow=args.allow_slow)
+                     truncation=args.truncation, allow_slow=args.allow_slow,
+                     unchecked=args.unchecked)
     if args.json:
         result.to_json(args.json)
     print(result)

@@ -156,11 +156,12 @@ def finish(figure: Figure, path: str | Path | None) -> Figure:
     if not isinstance(path, (str, os.PathLike)):  # a file object: matplotlib's to write
         figure.savefig(path, dpi=DPI)
         return figure
+    suffix = Path(path).suffix.lower()
     with replacing(path) as target:  # whole or not at all, never through a symlink
-        if Path(path).suffix.lower() == ".png":
+        if suffix in (".png", ""):  # no suffix: PNG, matplotlib's default format
             _write_png(figure, target)
-        else:
-            figure.savefig(target, dpi=DPI)
+        else:  # the format told by the name asked for, not by the temporary one's
+            figure.savefig(target, dpi=DPI, format=suffix[1:])
     return figure
 
 

@@ -11,6 +11,7 @@ written through (nothing lands outside the folder asked for). A target that is n
 from __future__ import annotations
 
 import os
+import sys
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -67,7 +68,20 @@ def write_atomically(path: str | Path, text: str, encoding: str = "utf-8") -> No
     """Write ``text`` to ``path`` whole or not at all (``replacing``).
 
     If the write fails (a full disk, text that cannot be encoded), the error is raised
-    and ``path`` is as it was.
+    and ``path`` is as it was. A path that is this process's standard output
+    (``/dev/stdout``) is written through ``sys.stdout``, so that what is printed after
+    it follows it instead of overwriting it.
     """
+    if _is_stdout(Path(path)):
+        sys.stdout.write(text)
+        sys.stdout.flush()
+        return
     with replacing(path) as target:
         target.write_text(text, encoding=encoding)
+
+
+def _is_stdout(path: Path) -> bool:
+    try:
+        return _stream(path) and os.path.samestat(os.stat(path), os.fstat(sys.stdout.fileno()))
+    except (OSError, ValueError, AttributeError):  # no stdout, or one without a descriptor
+        return False

@@ -120,14 +120,18 @@ def test_a_scene_nested_too_deep_is_one_line(tmp_path):
 
 def test_a_link_to_stdout_is_written_as_a_stream(tmp_path):
     # As /dev/stdout is: a link to the process's descriptor 1, here redirected to a
-    # file. The link is written through, not replaced.
+    # file. The link is written through, not replaced, and the summary printed after
+    # the JSON follows it instead of overwriting its start.
     link = tmp_path / "stdout"
     link.symlink_to("/proc/self/fd/1")
     with open(tmp_path / "out.txt", "w") as out:
-        done = subprocess.run([sys.executable, "-m", "numerics", "info", "--json", str(link)],
-                              stdout=out, stderr=subprocess.PIPE, text=True)
+        done = subprocess.run([sys.executable, "-m", "numerics", "sweep", "--pa-frac", "0.05",
+                               "--fmin", "1300", "--fmax", "1400", "--points", "3", "--quiet",
+                               "--json", str(link)], stdout=out, stderr=subprocess.PIPE,
+                              text=True)
     assert done.returncode == 0 and link.is_symlink()
-    assert '"y0_m": 2.25185562534611e-07' in (tmp_path / "out.txt").read_text()
+    text = (tmp_path / "out.txt").read_text()
+    assert text.startswith('{\n "kind": "Sweep"') and "\nSweep: 2 runs, 6 points" in text
 
 
 def test_another_value_error_is_status_1_with_a_log(monkeypatch, capsys):

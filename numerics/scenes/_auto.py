@@ -41,7 +41,6 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from common import Status
 from perturb import EQ_2_6, FULL, Effects, eq26_numbers
 
 from ._observables import observe, orbit_observables
@@ -311,7 +310,7 @@ def _every_point(scene, study: StudyRun, curves) -> tuple[float, float | None]:
 
     runs = study.outcomes[0].runs
     points = Orbits.stack(runs)
-    good = points.settled | (points.status == Status.UNDER_RESOLVED)
+    good = points.orbit_found
     if not good.all():  # a point the chosen model did not settle cannot vouch for itself
         return np.inf, float(points.frequency_hz[np.argmin(good)])
     model = model_of(scene, FULL)
@@ -384,7 +383,7 @@ def _full_through(scene, study: StudyRun, windows) -> list:
 
 def _last_good(run, first: int) -> int | None:
     """Index of the run's last orbit before ``first`` that seeded the next point."""
-    good = np.flatnonzero(run.settled[:first] | (run.status[:first] == Status.UNDER_RESOLVED))
+    good = np.flatnonzero(run.orbit_found[:first])
     return int(good[-1]) if good.size else None
 
 

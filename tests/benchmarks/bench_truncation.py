@@ -108,9 +108,14 @@ _FIRST = ("import time; import numpy as np; t = time.perf_counter(); "
 
 
 def _first_response(truncation: str, m2: float, cache: str) -> float:
+    return _new_process_seconds(_FIRST.format(m2=m2, truncation=truncation), cache)
+
+
+def _new_process_seconds(code: str, cache: str) -> float:
+    """The seconds that ``code`` prints last, run in a new process with ``cache``."""
     env = os.environ | {"CONTACT_RESONANCES_CACHE": cache}
-    out = subprocess.run([sys.executable, "-c", _FIRST.format(m2=m2, truncation=truncation)],
-                         env=env, cwd=_REPOSITORY, capture_output=True, text=True, check=True)
+    out = subprocess.run([sys.executable, "-c", code], env=env, cwd=_REPOSITORY,
+                         capture_output=True, text=True, check=True)
     return float(out.stdout.split()[-1])
 
 
@@ -163,13 +168,9 @@ _BUILD = ("import time; import numpy as np; from perturb import ContactParameter
 def _build_seconds(cache: str) -> tuple[float, float]:
     """A new process's first compiled consistent response of order 6 at m2 = 1.5, l = 0.5
     (every k_j and d_j) and at the paper's contact (h and d_1), in an empty cache."""
-    env = os.environ | {"CONTACT_RESONANCES_CACHE": cache}
-    seconds = []
-    for m2, l in ((1.5, 0.5), (2.0, 1.0)):
-        out = subprocess.run([sys.executable, "-c", _BUILD.format(m2=m2, l=l)], env=env,
-                             cwd=_REPOSITORY, capture_output=True, text=True, check=True)
-        seconds.append(float(out.stdout.split()[-1]))
-    return seconds[0], seconds[1]
+    contacts = (1.5, 0.5), (2.0, 1.0)
+    every, paper = (_new_process_seconds(_BUILD.format(m2=m2, l=l), cache) for m2, l in contacts)
+    return every, paper
 
 
 def main() -> None:

@@ -1,4 +1,4 @@
-"""`python -m numerics atlas`: the attractor census over a grid of (f_e, P_a) (issue 13)."""
+"""`python -m numerics atlas`: the attractor census over a grid of (f_e, P_a)."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ CONNECT_TIMEOUT_S = 10
 
 def add_atlas_parser(sub) -> None:
     parser = sub.add_parser("atlas", help="number of coexisting attractors over a grid of "
-                            "(f_e, P_a), in worker processes or on a dask cluster (issue 13)")
+                            "(f_e, P_a), in worker processes or on a dask cluster")
     add_band_options(parser)
     parser.add_argument("--pa-min", type=nonnegative_float, default=min(PAPER_PANEL_FRACTIONS),
                         help="least P_a / Q (default %(default)s)")

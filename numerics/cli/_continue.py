@@ -1,5 +1,5 @@
 """`python -m numerics continue`: periodic orbits continued through their folds, with
-stability (issue 13): in f_e at one P_a (``--pa-frac``), or in P_a at one f_e (``--fe``).
+stability: in f_e at one P_a (``--pa-frac``), or in P_a at one f_e (``--fe``).
 
 One command for both: the option that fixes one parameter says which one is walked,
 and the result's JSON has the same keys either way (a ``Continuation`` or a
@@ -33,7 +33,7 @@ OPTIONS = {"pa_frac": "--pa-frac", "fmin_hz": "--fmin", "fmax_hz": "--fmax",
 def add_continue_parser(sub) -> None:
     parser = sub.add_parser("continue", help="periodic orbits continued through their folds, "
                             "with stability: in f_e at one P_a (--pa-frac), or in P_a at one "
-                            "f_e (--fe) (issue 13)")
+                            "f_e (--fe)")
     fixed = parser.add_mutually_exclusive_group(required=True)
     fixed.add_argument("--pa-frac", type=positive_float,
                        help="P_a / Q: continue in f_e, over --fmin to --fmax")

@@ -1,4 +1,4 @@
-"""`python -m numerics folds`: fold curves in the (f_e, P_a) plane, with cusps (issue 13)."""
+"""`python -m numerics folds`: fold curves in the (f_e, P_a) plane, with cusps."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ __all__ = ["add_folds_parser"]
 
 def add_folds_parser(sub) -> None:
     parser = sub.add_parser("folds", help="fold curves of period-1 orbits in the (f_e, P_a) "
-                            "plane, with the cusps where bistable regions are born (issue 13)")
+                            "plane, with the cusps where bistable regions are born")
     add_band_options(parser)
     parser.add_argument("--pa-min", type=positive_float, required=True, help="least P_a / Q")
     parser.add_argument("--pa-max", type=positive_float, required=True, help="largest P_a / Q")

@@ -8,25 +8,27 @@ on the same sample. An effect is dropped when the change stays below half the
 tolerance (a margin for the points between the samples).
 
 The model without the dropped effects then runs the scene, and is checked
-against the full model at every point. For a sweep, the full model's steady
-state at each point is found from the chosen model's orbit there (one batch of
-lanes): the chosen orbit must lie within the tolerance of an attracting orbit of
-the full model, or Newton and the march find another one. Which of several
-coexisting orbits a sweep reaches depends on its path, so the full model also
-runs through a window of the scene's grid around each sensitive point (the peaks
-of each curve, the superharmonic ones included, both sides of every jump, where
-contact is nearest to being lost, and where the chosen model differed most on
-the sample), continuing from the chosen model's orbit just before the window, as
-the scene's own sweep would. Censuses and time histories, whose points do not
-depend on each other, are compared with the full model run at every point. If
-the chosen model is off by more than the tolerance anywhere, or a point did not
-settle in it, the scene runs the full model and says where.
+against the full model at every point. For a sweep, the full model takes every
+step of the sweep, continuing from the chosen model's orbit at the point before
+(from rest at a run's first point; all steps as lanes of one batch): where the
+chosen orbits lie within the tolerance of the full model's, the full model's
+sweep takes the same path step by step, and a step that lands elsewhere (a
+coexisting orbit the chosen model lacks, or none settled) is where the paths
+part. The full model also runs through a window of the scene's grid around each
+sensitive point (the peaks of each curve, the superharmonic ones included, both
+sides of every jump, where contact is nearest to being lost, and where the
+chosen model differed most on the sample), continuing from the chosen model's
+orbit just before the window, as the scene's own sweep would. Censuses and time
+histories, whose points do not depend on each other, are compared with the full
+model run at every point. If the chosen model is off by more than the tolerance
+anywhere, or a point did not settle in it, the scene runs the full model and
+says where.
 
-For a sweep asking for App and extrema only, the perturbation series of Eq. 2.6
-is tried first as the route (``_series_route.py``): where it is a candidate and
-within the margin of the full model on the sample, it is checked as the chosen
-model would be, from the orbit it describes at every point, and where it passes
-nothing is simulated for the scene.
+For a sweep asking for App and extrema only, the consistent perturbation series
+of the contact's own laws is tried first as the route (``_series_route.py``):
+where it is a candidate and within the margin of the full model on the sample,
+it is checked as the chosen model would be, step by step and through the
+windows, and where it passes nothing is simulated for the scene.
 
 The change of an observable is the largest, over the points, of its difference
 from the full model divided by the curve's scale: the largest App of the curve
@@ -41,11 +43,12 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from perturb import EQ_2_6, FULL, Effects, eq26_numbers
+from perturb import FULL, Effects, eq26_numbers
 
+from .._orbits import Orbits
 from ._observables import observe, orbit_observables
 from ._schema import Scene
-from ._series_route import SERIES_LABEL, series_study
+from ._series_route import SERIES_EFFECTS, SERIES_LABEL, series_study
 from ._studies import StudyRun, model_of, run_study
 
 __all__ = ["Selection", "select_effects", "observable_change", "SAMPLE_POINTS", "MARGIN"]
@@ -272,7 +275,8 @@ def _series_route(scene, sample, full, full_s, where, rows) -> Selection | None:
     row["verdict"] = "taken: the route"
     times = (f"time {where}: full model {full_s:.3g} s, series {seconds:.3g} s "
              f"({full_s / max(seconds, 1e-9):.2g}x)")
-    return Selection(EQ_2_6, rows, f"ran {SERIES_LABEL}; {check}; {times}", "series", on_grid)
+    return Selection(SERIES_EFFECTS, rows, f"ran {SERIES_LABEL}; {check}; {times}", "series",
+                     on_grid)
 
 
 def _sweep_check(scene, chosen, rows, sensitive, times, quiet) -> Selection:
@@ -283,50 +287,36 @@ def _sweep_check(scene, chosen, rows, sensitive, times, quiet) -> Selection:
 
 
 def _against_full(scene, study: StudyRun, sensitive: set[float]) -> tuple[float, str]:
-    """The full model at every point of the sweep ``study``, from its orbit there, and
-    through a window around every sensitive point, continuing from the sweep's orbit
-    before it (the path a sweep takes): the largest change, and the check in words."""
+    """The full model through every step of the sweep ``study``, and through a window
+    around every sensitive point (``_full_through``): the largest change, and the check
+    in words.
+
+    A step is the sweep's own: the full model at a point, continued from the chosen
+    orbit before it (from rest at a run's first point). Where the chosen orbits are
+    within the tolerance of the full model's, its sweep takes the same path step by
+    step; a step that lands elsewhere (a coexisting orbit the chosen model lacks, or
+    none settled) is where the paths part. All steps run as lanes of one batch."""
     runs, curves = study.outcomes[0].runs, observe(scene, study.outcomes, None)
-    largest, worst_at = _every_point(scene, study, curves)
+    points = Orbits.stack(runs)
+    if not points.orbit_found.all():  # a point the chosen model did not settle cannot vouch
+        return np.inf, (f"the chosen model did not settle at "
+                        f"{points.frequency_hz[np.argmin(points.orbit_found)]:g} Hz")
+    steps = [(r, i) for r, run in enumerate(runs) for i in range(run.status.size)]
     windows = [(r, first) for r, run in enumerate(runs)
                for first in _window_starts(run, sensitive)]
-    for (r, first), points in zip(windows, _full_through(scene, study, windows)):
-        for k in range(points.status.size):  # point by point, to say where
-            change = _window_change(scene, curves[r], points.take([k]), first + k)
-            if not change <= largest:
-                largest, worst_at = change, float(runs[r].frequency_hz[first + k])
-    check = (f"the full model at every point from the chosen orbit there, and through "
-             f"{len(windows)} windows of {_window_length(runs[0])} points around the peaks, "
-             f"jumps and sensitive points of the sweep"
+    largest, worst_at = 0.0, None
+    for group, length in ((steps, 1), (windows, _window_length(runs[0]))):
+        for (r, first), found in zip(group, _full_through(scene, study, group, length)):
+            for k in range(found.status.size):  # point by point, to say where
+                change = _window_change(scene, curves[r], found.take([k]), first + k)
+                if not change <= largest:
+                    largest, worst_at = change, float(runs[r].frequency_hz[first + k])
+    check = (f"the full model through every step of the sweep from the chosen orbit before "
+             f"it, and through {len(windows)} window{'s' * (len(windows) != 1)} of "
+             f"{_window_length(runs[0])} points "
+             f"around the peaks, jumps and sensitive points"
              + (f" (largest change at {worst_at:g} Hz)" if worst_at is not None else ""))
     return largest, check
-
-
-def _every_point(scene, study: StudyRun, curves) -> tuple[float, float | None]:
-    """The full model's steady state at every point of the chosen sweep, continued from
-    the chosen orbit there (one batch of lanes): the largest change, and where."""
-    from .._orbits import Orbits
-    from .._steady import steady_states
-
-    runs = study.outcomes[0].runs
-    points = Orbits.stack(runs)
-    good = points.orbit_found
-    if not good.all():  # a point the chosen model did not settle cannot vouch for itself
-        return np.inf, float(points.frequency_hz[np.argmin(good)])
-    model = model_of(scene, FULL)
-    p_a = np.repeat([run.pa_frac for run in runs], [run.status.size for run in runs])
-    found = steady_states(points.frequency_hz, p_a * model.parameters.Q_n, model=model,
-                          y_init_m=points.y_start_m, v_init_m_s=points.v_start_m_s,
-                          period_guess=points.period, app_guess_m=points.app_m,
-                          **_accuracy(study))
-    largest, where, first = 0.0, None, 0
-    for run, curve in zip(runs, curves):
-        for i in range(run.status.size):  # point by point, to say where
-            change = _window_change(scene, curve, found.take([first + i]), i)
-            if not change <= largest:
-                largest, where = change, float(run.frequency_hz[i])
-        first += run.status.size
-    return largest, where
 
 
 def _accuracy(study: StudyRun) -> dict:
@@ -355,15 +345,14 @@ def _window_starts(run, sensitive: set[float]) -> list[int]:
                    for i in index})
 
 
-def _full_through(scene, study: StudyRun, windows) -> list:
-    """The full model's points in every window (one ``Orbits`` each), all windows run as
-    lanes of one sweep. A window continues from the scene's last good orbit before it,
-    as the scene's sweep did; with none (the start of a run), from rest."""
-    from .._orbits import Orbits
+def _full_through(scene, study: StudyRun, windows, length: int) -> list:
+    """The full model's points in every window of ``length`` points (one ``Orbits``
+    each), all windows run as lanes of one sweep. A window continues from the scene's
+    last good orbit before it, as the scene's sweep did; with none (the start of a
+    run), from rest."""
     from .._sweep import _sweep_lanes
 
     model, runs = model_of(scene, FULL), study.outcomes[0].runs
-    length = _window_length(runs[0])
     freq = np.array([runs[r].frequency_hz[first:first + length] for r, first in windows])
     p_a = np.array([runs[r].pa_frac for r, _ in windows]) * model.parameters.Q_n
     accuracy = _accuracy(study)

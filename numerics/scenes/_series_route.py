@@ -1,9 +1,13 @@
 """The perturbation series as a route of ``effects = "auto"``: a sweep without simulation.
 
-For a sweep scene asking for App and extrema, the series of Eq. 2.6 (Eq. 2.7,
-2.8, order ``SERIES_ORDER``, compiled) is a candidate route where every point of
-the scene has exactly one response of the series, valid at the selection's margin
-of the tolerance (its own error estimate, and contact kept). Several responses at
+For a sweep scene asking for App and extrema, the consistent series of the
+contact's own equation in contact (Eq. 2.5 carried on: every Taylor term of the
+spring and the damper up to the order; Eq. 2.7, 2.8's scheme, order
+``SERIES_ORDER``, compiled) is a candidate route where every point of the scene
+has exactly one response of the series, valid at the selection's margin of the
+tolerance (its error estimate, which includes the terms it leaves out, and contact
+kept). It stands for the full model (``SERIES_EFFECTS``): where it is valid, the
+slider stays in contact. Several responses at
 a point (a bent peak) make the answer depend on the sweep's path, which the series
 does not follow.
 
@@ -11,9 +15,10 @@ A candidate is given as the scene's sweep would give it (``Sweep``, one run per
 amplitude and direction), each point with the state at the drive's phase 0 of the
 orbit the series describes (``perturb.series_orbits``), so that it is checked
 against the full model as a reduced model is: the full model's steady state is
-sought from that state at every point. One valid response of the series does not
-exclude orbits it cannot describe (a period-2 orbit of the full model near
-2 f_n0, where the series sees a quiet period-1 response): the check finds them.
+run through every step of the sweep from that state at the point before. One
+valid response of the series does not exclude orbits it cannot describe (a
+period-2 orbit of the full model near 2 f_n0, where the series sees a quiet
+period-1 response): the check finds them.
 """
 
 from __future__ import annotations
@@ -23,7 +28,9 @@ import time
 import numpy as np
 
 from common import Status
-from perturb import eq26_numbers, frequency_response
+from perturb import FULL, eq26_numbers, frequency_response
+from perturb._response_codegen import series_kernels
+from perturb._truncation import truncation_for
 
 from .._orbits import Orbits
 from .._steady import DEFAULTS
@@ -31,14 +38,20 @@ from .._sweep import Sweep, SweepRun
 from ._schema import Scene
 from ._studies import StudyRun
 
-__all__ = ["series_study", "SERIES_ORDER", "SERIES_OBSERVABLES", "SERIES_LABEL"]
+__all__ = ["series_study", "SERIES_ORDER", "SERIES_OBSERVABLES", "SERIES_LABEL",
+           "SERIES_EFFECTS", "SERIES_TRUNCATION"]
 
 #: Order of the series taken as a route (the response's default).
 SERIES_ORDER = 6
 #: What the series gives of a sweep: App and the extrema of u(t) (Eq. 2.1: y = y0 + u).
 SERIES_OBSERVABLES = frozenset({"app", "extrema"})
-SERIES_LABEL = f"the perturbation series of Eq. 2.6, order {SERIES_ORDER} (no simulation)"
-RECORDER = (f"the compiled series of order {SERIES_ORDER}: one response per point, its "
+#: The series taken: every Taylor term of the contact's own laws up to the order.
+SERIES_TRUNCATION = "consistent"
+#: The model the series stands for: the contact's own laws, which it expands in contact.
+SERIES_EFFECTS = FULL
+SERIES_LABEL = (f"the perturbation series of the contact's own laws (consistent truncation), "
+                f"order {SERIES_ORDER} (no simulation)")
+RECORDER = (f"the compiled consistent series of order {SERIES_ORDER}: one response per point, its "
             "extrema and its state at the drive's phase 0")
 
 
@@ -50,12 +63,12 @@ def series_study(scene: Scene, grid: np.ndarray, tolerance: float
         return None, f"the series gives {', '.join(sorted(SERIES_OBSERVABLES))} of a sweep", 0.0
     if scene.animation and scene.animation["kind"] != "sweep":
         return None, "the slider's animation replays a simulated orbit", 0.0
-    from perturb._response_codegen import series_kernels
-
-    series_kernels(SERIES_ORDER)  # built once per order and cache, before the clock starts
+    # Built once per order, set of kept terms and cache, before the clock starts.
+    series_kernels(SERIES_ORDER, truncation_for(SERIES_TRUNCATION, scene.parameters))
     start = time.perf_counter()
     responses = [frequency_response(grid, frac, SERIES_ORDER, parameters=scene.parameters,
-                                    tolerance=tolerance, engine="compiled", truncation="paper")
+                                    tolerance=tolerance, engine="compiled",
+                                    truncation=SERIES_TRUNCATION)
                  for frac in scene.pa_frac]
     for frac, response in zip(scene.pa_frac, responses):
         several = int(np.sum(response.roots_per_frequency() != 1))
@@ -84,7 +97,7 @@ def _as_sweep(scene: Scene, grid: np.ndarray, responses, start: float) -> Sweep:
                 "direction": direction, **DEFAULTS,
                 "steps_per_period": scene.options["steps_per_period"],
                 "app_rtol": scene.tolerance, "method": "newton", "keep_orbits": False,
-                "order": SERIES_ORDER}
+                "order": SERIES_ORDER, "truncation": SERIES_TRUNCATION}
     return Sweep(model=responses[0].model, settings=settings, runs=runs,
                  elapsed_s=time.perf_counter() - start)
 
@@ -95,7 +108,7 @@ def _points(scene: Scene, branch, pa_frac: float) -> Orbits:
     from perturb import series_orbits  # its harmonics are sympy's lambdified formulas
 
     n = branch.frequency_hz.size
-    orbit = series_orbits(branch, SERIES_ORDER, scene.parameters, truncation="paper")
+    orbit = series_orbits(branch, SERIES_ORDER, scene.parameters, truncation=SERIES_TRUNCATION)
     y0 = eq26_numbers(scene.parameters).y0_m
     return Orbits(
         frequency_hz=branch.frequency_hz, p_a_n=np.full(n, pa_frac * scene.parameters.Q_n),

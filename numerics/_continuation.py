@@ -59,6 +59,10 @@ from ._sweep import ENGINES
 __all__ = ["Bifurcation", "Continuation", "ContinuedBranch", "continue_orbits", "DEFAULTS"]
 
 DEFAULTS = {"steps_per_period": "auto", "ds_max": 0.02, "max_angle": 0.1, "max_points": 20_000}
+#: The most points a walk may keep: some 730 bytes each while walking (measured by
+#: tests/test_continuation.py), so a walk at the limit holds under 0.5 GB; at the default
+#: steps the paper's branch walks some 6,000 points a second.
+MAX_WALK_POINTS = 500_000
 #: The least N of "auto": the map's corners (a step's stage crossing y = 0) grow with the
 #: step; at 0.15 Q, N = 128 shows zigzags of f by 0.27 Hz on the bouncing middle branch
 #: (taken for folds) and stops at 398 Hz, N = 512 none and reaches 355 Hz (352.55 Hz with
@@ -371,7 +375,8 @@ def continue_orbits(
         steps shorter than a corner's step (``corner_step``).
     max_points : int
         A walk gives up after this many points; the folds located once it has ended
-        are added to them (one per fold reported).
+        are added to them (one per fold reported). At most ``MAX_WALK_POINTS``
+        (500,000: under 0.5 GB a walk).
     quiet : bool
         No progress bar on stderr.
     engine : {"auto", "compiled", "python"}
@@ -441,7 +446,8 @@ def check_walk(period, ds_max, max_angle, max_points) -> tuple[float, float, int
     if period not in PERIODS_TRIED:
         raise ValueError(f"`period` must be one of {PERIODS_TRIED}, got {period!r}.")
     return (check_positive("ds_max", ds_max), check_positive("max_angle", max_angle),
-            check_int("max_points", max_points, minimum=2))
+            check_int("max_points", max_points, minimum=2, maximum=MAX_WALK_POINTS,
+                      why="some 730 bytes a point, under 0.5 GB a walk"))
 
 
 def branch_steps(steps_per_period, f_hz: float, numbers) -> int:

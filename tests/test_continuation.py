@@ -354,6 +354,25 @@ def test_bad_arguments_are_named():
         continue_orbits(0.05, 1600.0, 1300.0)
     with pytest.raises(ValueError, match="period"):
         continue_orbits(0.05, 1300.0, 1600.0, period=9)
+    with pytest.raises(ValueError, match="`max_points` must be an integer <= 500000"):
+        continue_orbits(0.05, 1300.0, 1600.0, max_points=500_001)
+
+
+def test_a_walk_at_its_most_points_stays_under_half_a_gigabyte():
+    # What a walk keeps per point (the point's z, Jacobian, monodromy and tangent),
+    # measured: the limit of max_points times it stays under 0.5 GB.
+    import tracemalloc
+
+    from numerics._continuation import MAX_WALK_POINTS, Point
+
+    kept, count = [], 20_000
+    tracemalloc.start()
+    for _ in range(count):
+        kept.append((Point(np.zeros(3), np.zeros((2, 3)), np.zeros((2, 2)), 3), np.zeros(3)))
+    per_point = tracemalloc.get_traced_memory()[1] / count
+    tracemalloc.stop()
+    assert 100 < per_point < 1000  # 730 bytes measured
+    assert per_point * MAX_WALK_POINTS < 0.5e9
 
 
 def test_the_command_line(tmp_path):

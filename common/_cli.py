@@ -54,7 +54,9 @@ def name_value(text: str) -> tuple[str, float]:
     return name.strip(), _finite(value.strip())
 
 
-def int_at_least(minimum: int, maximum: int | None = None):
+def int_at_least(minimum: int, maximum: int | None = None, why: str = ""):
+    """An argparse type: an integer in [minimum, maximum]; ``why`` says in the error why
+    the maximum is there."""
     def parse(text: str) -> int:
         try:
             value = int(text)
@@ -63,7 +65,9 @@ def int_at_least(minimum: int, maximum: int | None = None):
         if value < minimum:
             raise argparse.ArgumentTypeError(f"must be an integer >= {minimum}, got {text!r}")
         if maximum is not None and value > maximum:
-            raise argparse.ArgumentTypeError(f"must be an integer <= {maximum}, got {text!r}")
+            reason = f" ({why})" if why else ""
+            raise argparse.ArgumentTypeError(
+                f"must be an integer <= {maximum}, got {text!r}{reason}")
         return value
 
     parse.__name__ = f"integer >= {minimum}"

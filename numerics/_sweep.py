@@ -45,8 +45,12 @@ JUMP_RESOLUTION = 1e-4
 #: (``jumped`` is None: jumps by App's change alone), so that the check stays within the
 #: sweep's own work.
 MAX_CHECKED_STEPS = 10_000
+#: App below this fraction of |y| is at the round-off of y (some 4,500 units in the last
+#: place): its changes from point to point are noise, never a jump.
+ROUND_OFF_APP = 1e-12
 #: The most steady states one sweep computes (points x amplitudes x directions): about
-#: 12,000 are found per second at the paper's settings, so this is a minute or two.
+#: 12,000 are found per second at the paper's settings, so this is a minute or two; the
+#: command at the limit peaks at 1.1 GB (tests/benchmarks/bench_limits.py).
 MAX_STATES = 1_000_000
 
 
@@ -102,11 +106,22 @@ class Sweep(Result):
         for run in self.runs:
             jumps = [run.frequency_hz[i] for i in run.jumps()]
             settled = np.where(run.settled, run.app_m, np.nan)
-            lines.append(f"  P_a = {run.pa_frac:.2f} Q {run.direction:>4}: max App "
-                         f"{np.nanmax(settled, initial=0) * 1e9:9.1f} nm, jumps at "
+            app = (f"{_short(np.nanmax(settled) * 1e9, 1, 9)} nm" if run.settled.any()
+                   else "(none settled)")
+            lines.append(f"  P_a = {_short(run.pa_frac, 2)} Q {run.direction:>4}: max App "
+                         f"{app}, jumps at "
                          f"{[float(f) for f in jumps]} Hz, contact lost at "
                          f"{int(run.contact_lost.sum())} points")
         return "\n".join(lines)
+
+
+def _short(value: float, decimals: int, width: int = 0) -> str:
+    """``value`` with ``decimals`` decimals, or with three significant digits where
+    those would print a nonzero value as zero; right-aligned in ``width``."""
+    text = f"{value:.{decimals}f}"
+    if value != 0 and float(text) == 0:
+        text = f"{value:.3g}"
+    return text.rjust(width)
 
 
 def sweep(
@@ -206,6 +221,18 @@ def _candidates(app: np.ndarray, ratio: float = JUMP_RATIO) -> np.ndarray:
     return np.flatnonzero(change > ratio) + 1
 
 
+def _beyond_errors(run: SweepRun, i: int) -> bool:
+    """Whether App changes from point i-1 to i by more than the two orbits' estimated
+    errors (``error_estimate``, relative; none known counts as none), both orbits' App
+    above the round-off of y (``ROUND_OFF_APP``)."""
+    pair = slice(i - 1, i + 1)
+    scale = np.maximum(np.abs(run.ymin_m[pair]), np.abs(run.ymax_m[pair]))
+    if not (run.app_m[pair] > ROUND_OFF_APP * scale).all():
+        return False
+    error = np.nan_to_num(run.error_estimate[pair] * run.app_m[pair])
+    return bool(abs(run.app_m[i] - run.app_m[i - 1]) > error.sum())
+
+
 def _check_jumps(runs: list[SweepRun], model: ContactModel, **accuracy) -> None:
     """Set ``jumped`` on every run: whether the sweep left its branch at each step where
     App changes by more than ``JUMP_RATIO`` between two orbits (settled or
@@ -222,13 +249,15 @@ def _check_jumps(runs: list[SweepRun], model: ContactModel, **accuracy) -> None:
     jump does not, so the step also jumps where the last half still holds a quarter of
     the step's change. A point where no orbit is found (neither settled nor
     under-resolved) counts as a jump. A sweep with more than ``MAX_CHECKED_STEPS``
-    candidate steps is not checked (``jumped`` stays None).
+    candidate steps is not checked (``jumped`` stays None). Nor is a change of App within
+    the two orbits' own error estimates (App at the round-off of y, under-resolved).
     """
     steps = []  # (run, i): the step from point i-1 to point i
     for run in runs:
         good = run.orbit_found
         run.jumped = np.zeros(run.status.size, dtype=bool)
-        steps += [(run, int(i)) for i in _candidates(run.app_m) if good[i] and good[i - 1]]
+        steps += [(run, int(i)) for i in _candidates(run.app_m)
+                  if good[i] and good[i - 1] and _beyond_errors(run, i)]
     if len(steps) > MAX_CHECKED_STEPS:  # past the bound: no run is checked, and each
         for run in runs:  # says so (``jumped`` None: App's ratio alone)
             run.jumped = None

@@ -20,6 +20,7 @@ from numerics._atlas import MAX_LANES
 from numerics._backbone import MAX_POINTS
 from numerics._steady import MAX_STEPS
 from numerics._sweep import MAX_STATES
+from numerics.cli._steady import MAX_STEADY_STEPS
 from perturb.__main__ import _parser as perturb_parser
 
 SIZES = st.integers(1, 10**12)
@@ -39,8 +40,8 @@ def parses(parser: argparse.ArgumentParser, argv: list[str]) -> bool:
 
 @settings(max_examples=60, deadline=None)
 @given(size=SIZES, option=st.sampled_from([
-    (["sweep", "--points"], 2, MAX_STATES), (["sweep", "--steps"], 4, MAX_STEPS),
-    (["attractors", "--fe", "1000", "--pa-frac", "0.1", "--steps"], 4, MAX_STEPS),
+    (["sweep", "--points"], 2, MAX_STATES), (["sweep", "--steps"], 4, MAX_STEADY_STEPS),
+    (["attractors", "--fe", "1000", "--pa-frac", "0.1", "--steps"], 4, MAX_STEADY_STEPS),
     (["continue", "--pa-frac", "0.05", "--steps"], 4, MAX_STEPS),
     (["backbone", "--points"], 1, MAX_POINTS),
 ]))

@@ -8,6 +8,7 @@ import sys
 import numpy as np
 import pytest
 
+from common import Status
 from numerics import sweep
 from perturb import EQ_2_6, PAPER, ContactModel, eq26_numbers
 
@@ -173,3 +174,16 @@ def test_a_sweep_past_the_checked_steps_says_it_was_not_checked(monkeypatch):
         assert run.jumped is None
         ratio = np.maximum(run.app_m[1:] / run.app_m[:-1], run.app_m[:-1] / run.app_m[1:])
         assert run.jumps() == (np.flatnonzero(ratio > 1.3) + 1).tolist()
+
+
+def test_app_at_the_round_off_of_y_is_under_resolved_and_never_a_jump():
+    # At 1e-14 Q App is some 1e-20 m, a few hundred units in the last place of y (some
+    # 5e-8 m): every point is under-resolved, and its noise from point to point is no
+    # jump. At 1e-9 and 1e-8 Q the response is linear: App scales with P_a to 1e-6.
+    result = sweep([1000.0, 1200.0, 1400.0], [1e-14, 1e-9, 1e-8], direction="up", quiet=True)
+    noise, small, larger = result.runs
+    assert (noise.status == Status.UNDER_RESOLVED).all() and noise.jumps() == []
+    assert "max App (none settled)" in result.table()
+    assert (small.status == Status.SUCCESS).all() and (larger.status == Status.SUCCESS).all()
+    np.testing.assert_allclose(larger.app_m / small.app_m, 10.0, rtol=1e-6)
+    assert "max App  1.9" in result.table()  # not printed as 0.0 nm

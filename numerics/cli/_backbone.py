@@ -14,7 +14,7 @@ def _points(text: str) -> int:
     """--points: an integer from 1 to the backbone's MAX_POINTS."""
     from .._backbone import MAX_POINTS  # scipy only when this command is parsed
 
-    return int_at_least(1, MAX_POINTS)(text)
+    return int_at_least(1, MAX_POINTS, "computed in chunks, 0.4 GB at the limit")(text)
 
 
 def add_backbone_parser(sub) -> None:

@@ -26,13 +26,26 @@ __all__ = ["add_sweep_parser", "add_attractors_parser"]
 
 
 def _steps(text: str) -> int | str:
-    """--steps: "auto" or an integer from 4 to MAX_STEPS (2^20: at the paper's contact a
-    continuation at that N takes under 4 GB and a minute)."""
-    return "auto" if text == "auto" else int_at_least(4, MAX_STEPS)(text)
+    """--steps of a walk (continue, folds): "auto" or an integer from 4 to MAX_STEPS (2^20:
+    at the paper's contact a continuation at that N holds 240 MB, tests/benchmarks/
+    bench_limits.py)."""
+    return "auto" if text == "auto" else int_at_least(
+        4, MAX_STEPS, "the steps bound of every command, 2^20")(text)
+
+
+#: The largest --steps of a steady state: its refinements double the steps up to MAX_STEPS.
+MAX_STEADY_STEPS = MAX_STEPS // 2 ** DEFAULTS["refinements"]
+
+
+def _steady_steps(text: str) -> int | str:
+    """--steps of sweep and attractors: "auto" or an integer from 4 to MAX_STEADY_STEPS."""
+    return "auto" if text == "auto" else int_at_least(
+        4, MAX_STEADY_STEPS, f"its {DEFAULTS['refinements']} refinements double it, up to "
+        f"the steps bound of every command, 2^20")(text)
 
 
 def _accuracy_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--steps", type=_steps, default=DEFAULTS["steps_per_period"],
+    parser.add_argument("--steps", type=_steady_steps, default=DEFAULTS["steps_per_period"],
                         help="RK4 steps per period, an integer >= 4 or 'auto' (at least 128, "
                         "more at low f_e; the default)")
     parser.add_argument("--tol", type=positive_float, default=DEFAULTS["tol"],
@@ -50,7 +63,9 @@ def add_sweep_parser(sub) -> None:
                         default=list(PAPER_PANEL_FRACTIONS),
                         help="force amplitudes P_a / Q (default: the paper's ten)")
     add_band_options(parser)
-    parser.add_argument("--points", type=int_at_least(2, MAX_STATES), default=311)
+    parser.add_argument("--points", type=int_at_least(2, MAX_STATES, "the most steady states "
+                                                      "of one sweep, 1.1 GB at the limit"),
+                        default=311)
     parser.add_argument("--direction", choices=DIRECTIONS, default="both")
     parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="Fig. 2 there, and Fig. 3 beside it (FILE-extrema.png)")
@@ -94,7 +109,8 @@ def _sweep(args: argparse.Namespace) -> int:
     states = args.points * len(args.pa_frac) * (2 if args.direction == "both" else 1)
     if states > MAX_STATES:
         args.parser.error(f"--points x --pa-frac x directions asks for {states} steady states, "
-                          f"more than the limit of {MAX_STATES}; split the band")
+                          f"more than the limit of {MAX_STATES} (1.1 GB at the limit); "
+                          f"split the band")
     model = ContactModel(model_parameters(args))
     result = sweep(np.linspace(args.fmin, args.fmax, args.points), args.pa_frac,
                    direction=args.direction, model=model, steps_per_period=args.steps,

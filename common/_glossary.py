@@ -213,7 +213,7 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "cluster_tol": ("states closer than this fraction of App are one attractor", "1", ""),
     "cluster_floor_y0": ("... of App, but never of less than this fraction of y0", "1", ""),
     "rest_fraction_y0": ("an orbit with App below this fraction of y0 is rest", "1", ""),
-    # -- the multistability atlas (issue 13): arrays and lists over cells, shape (P_a, f_e)
+    # -- the multistability atlas: arrays and lists over cells, shape (P_a, f_e)
     "attractor_count": ("per cell of the atlas, the distinct attractors the census finds "
                         "(-1: the cell's task failed)", "1", "Section 3.3"),
     "attractor_periods": ("per cell of the atlas, the period p of each attractor, largest "
@@ -290,7 +290,7 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "quick": ("coarser grids (the tests)", "", ""),
     "real": ("JSON of a complex array: its real part", "", ""),
     "imag": ("JSON of a complex array: its imaginary part", "", ""),
-    # -- continuation (issue 13)
+    # -- continuation
     "bifurcations": ("folds and period doublings met along continued branches: kind, "
                      "frequency_hz, app_m, pa_frac, located, frequency_tol_hz, pa_frac_tol",
                      "", ""),
@@ -332,7 +332,7 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
                      "frequency_hz (one branch set per P_a) or pa_frac (one per f_e)", "", ""),
     "switch_branches": ("a continuation scene also continues the period-2p branch born at "
                         "each period doubling", "", ""),
-    # -- fold curves in the (f_e, P_a) plane (issue 13, item 4)
+    # -- fold curves in the (f_e, P_a) plane
     "fold_curves": ("fold curves of period-1 orbits continued in (f_e, P_a): per point "
                     "frequency_hz, pa_frac, app_m, multipliers, state", "", "Section 3.3"),
     "cusps": ("where the two folds of one resonance meet: the least P_a of its bistable "
@@ -347,14 +347,14 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
                "1", ""),
     "seed_pa_fracs": ("the P_a / Q at which folds are sought to start fold curves from", "1",
                       ""),
-    # -- the stability of the series' roots (issue 13, item 3)
+    # -- the stability of the series' roots
     "orbit_distance": ("how far the RK4 orbit of Eq. 2.6 that Newton reached from a series "
                        "root's state lies from it: abs(dy) / (App/2) + abs(dv) / (Omega App/2)",
                        "1", ""),
     "reach": ("how far (in units of the series' error estimate, plus RK4's own error) the "
               "RK4 orbit may lie from a series root's state and still give it a stability "
               "flag", "1", ""),
-    # -- the largest Lyapunov exponent (issue 13, item 6)
+    # -- the largest Lyapunov exponent
     "exponent_per_s": ("largest Lyapunov exponent lambda: the mean growth rate of a small "
                        "perturbation, by Benettin's method on the RK4 map's tangent", "1/s",
                        ""),

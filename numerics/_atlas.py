@@ -1,4 +1,4 @@
-"""Multistability atlas: the attractor census over a grid of (f_e, P_a) (issue 13, item 5).
+"""Multistability atlas: the attractor census over a grid of (f_e, P_a).
 
 Section 3.3 of the paper describes its bi- and multi-stable regions in words; the
 atlas maps them: at every cell of a grid of f_e and P_a, the number of distinct

@@ -1,7 +1,7 @@
 """Branch switching at a period doubling: the period-2p branch born there, continued.
 
 Where a multiplier of a p-periodic orbit passes -1 (a period doubling), a branch
-of 2p-periodic orbits is born (issue 13, item 2). At that point x* both branches
+of 2p-periodic orbits is born. At that point x* both branches
 are zeros of the 2p-fold residual R_2p(x, f) = Phi_2p(x, f) - x: the p-branch
 (each of its orbits repeats after 2p periods too) and the new one, which cross
 there. The 2 x 3 Jacobian [M^2 - I, dR_2p/df] has a two-dimensional null space,

@@ -1,7 +1,7 @@
 """Pseudo-arclength continuation of periodic orbits in f_e, with their stability.
 
 Sweeps see only stable states and jump where a branch folds. Here a periodic
-orbit is followed continuously, stable or not (issue 13, items 1, 2): a point
+orbit is followed continuously, stable or not: a point
 of the branch is a zero of R(x, f) = Phi_p(x, f) - x, Phi_p being p periods
 of the simulator's RK4 map at N fixed steps per period (``_continuation_map``).
 

@@ -2,7 +2,7 @@
 
 Where a resonance peak bends, a band of f_e holds two stable orbits (the paper's
 bi-stability, Section 3.3) bounded by two folds. As P_a changes the folds move;
-here they are followed as curves of the (f_e, P_a) plane (issue 13, item 4).
+here they are followed as curves of the (f_e, P_a) plane.
 
 - **Unknowns.** w = (y / y0, v / (omega0 y0), f / f_n0, a), a = P_a / Q: the scaled
   unknowns of ``_continuation_map`` plus the force amplitude.

@@ -1,4 +1,4 @@
-"""Periodic orbits continued in the force amplitude P_a at one f_e (issue 13, item 2).
+"""Periodic orbits continued in the force amplitude P_a at one f_e.
 
 A sweep of f_e at fixed P_a shows where a peak bends (Fig. 2); at a fixed f_e near
 a bent peak the response to a growing force folds too: App jumps up as P_a rises

@@ -7,7 +7,7 @@ root's f_e (Phi(x) = x, fixed f, N steps per period: the shooting of
 ``steady_states`` and ``continue_orbits``), all roots of all branches as lanes of
 one kernel call per iteration. The eigenvalues of the monodromy matrix at the
 orbit Newton converges to are its Floquet multipliers; the orbit is stable when
-both lie inside the unit circle (issue 13, item 3).
+both lie inside the unit circle.
 
 A flag is given only where the orbit found is the root's: Newton converged, the
 orbit lies within ``reach`` times the series' error estimate, plus RK4's own
@@ -105,7 +105,7 @@ class SeriesBranchStability(Result):
 
 @result
 class SeriesStability(Result):
-    """The stability of every root of a ``perturb.Response`` (issue 13, item 3).
+    """The stability of every root of a ``perturb.Response``.
 
     Attributes
     ----------

@@ -168,8 +168,9 @@ def _parser() -> argparse.ArgumentParser:
         sub.add_argument("--truncation", choices=TRUNCATIONS,
                          default=None if sub is derive_cmd else "consistent",
                          help="consistent: every term k_j u^j, d_j u^j u' of the contact's "
-                         "equation up to the order (default; paper with --steps); paper: "
-                         "Eq. 2.6")
+                         "equation up to the order (the default"
+                         + ("; derive --steps prints Eq. 2.6's derivation unless asked"
+                            if sub is derive_cmd else "") + "); paper: Eq. 2.6")
         add_allow_slow(sub)
         # SUPPRESS: a --quiet given before the command is not reset here.
         sub.add_argument(

@@ -103,6 +103,13 @@ def _numbers(parameters: ContactParameters) -> Eq26Numbers:
     from ._eq26 import derive_numbers  # sympy, only when the cache has no entry
 
     numbers = derive_numbers(parameters)
+    values = numbers.as_dict()
+    positive = ("y0_m", "f_n0_hz", "omega0_rad_s")
+    off = ", ".join(f"{k} = {v!r}" for k, v in values.items()
+                    if not math.isfinite(v) or (k in positive and v <= 0))
+    if off:
+        raise ValueError(f"`parameters` give no finite equilibrium in contact ({off}; "
+                         f"y0 solves S c_n y0^m2 = M g): {parameters}")
     _write(path, parameters, numbers)
     return numbers
 

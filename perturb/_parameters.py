@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, fields
 
-from common import check_keys, check_positive
+from common import check_keys, check_positive, check_real
 
 __all__ = [
     "ContactParameters",
@@ -65,7 +65,7 @@ class ContactParameters:
     def __post_init__(self) -> None:
         for name in ("S", "c_n", "h_n", "M", "g"):
             object.__setattr__(self, name, check_positive(name, getattr(self, name)))
-        m2 = check_positive("m2", self.m2)
+        m2 = check_real("m2", self.m2)
         if m2 < 1:
             raise ValueError(f"`m2` must be >= 1, got {self.m2!r}.")
         object.__setattr__(self, "m2", m2)

@@ -42,3 +42,17 @@ def test_a_lookup_of_what_is_not_there_lists_what_is():
     result = sweep(np.array([1000.0, 1010.0]), 0.05, direction="up")
     with pytest.raises(KeyError, match=r"available: \[\(0\.05, 'up'\)\]"):
         result.run(0.05, "down")
+
+
+@pytest.mark.parametrize("work", ["response", "backbone", "numbers"])
+def test_a_contact_with_no_finite_equilibrium_is_named(work):
+    # c_n = 1e-308 at m2 = 1: y0 = M g / (S c_n) overflows. Once a ZeroDivisionError
+    # deep in the backbone, and 0 branches with RuntimeWarnings in the response.
+    from perturb import ContactParameters, backbone_series, eq26_numbers
+
+    contact = ContactParameters(c_n=1e-308, m2=1.0, h_n=1e-300)
+    calls = {"response": lambda: frequency_response([800.0], 0.05, 2, parameters=contact),
+             "backbone": lambda: backbone_series(2, "consistent", contact),
+             "numbers": lambda: eq26_numbers(contact)}
+    with pytest.raises(ValueError, match=r"`parameters` give no finite equilibrium .*y0_m = inf"):
+        calls[work]()

@@ -19,7 +19,7 @@ FAILED_COLOUR = "0.55"
 def plot_atlas(atlas, path=None, *, folds=None):
     """The number of coexisting attractors at each cell, one colour per count, over f_e
     and P_a / Q; cells whose task failed in grey. ``atlas``: a ``numerics.Atlas``;
-    ``folds``: a ``numerics.FoldCurves`` (issue 13, item 4) drawn over the map."""
+    ``folds``: a ``numerics.FoldCurves`` drawn over the map."""
     figure, ax = new_figure((7.0, 4.4))
     counts = np.asarray(atlas.attractor_count)
     failed = np.asarray(atlas.status) == Status.FAILED

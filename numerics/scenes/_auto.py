@@ -10,11 +10,14 @@ tolerance (a margin for the points between the samples).
 The model without the dropped effects then runs the scene, and is checked
 against the full model at every point. For a sweep, the full model takes every
 step of the sweep, continuing from the chosen model's orbit at the point before
-(from rest at a run's first point; all steps as lanes of one batch): where the
-chosen orbits lie within the tolerance of the full model's, the full model's
-sweep takes the same path step by step, and a step that lands elsewhere (a
-coexisting orbit the chosen model lacks, or none settled) is where the paths
-part. The full model also runs through a window of the scene's grid around each
+(from rest at a run's first point; the steps run as lanes of one sweep, those
+from rest and those from an orbit in two batches): a step that lands elsewhere
+than the chosen orbit (a coexisting orbit the chosen model lacks, or none
+settled) is where the paths part. Where every step lands within the tolerance,
+the full model's sweep, started from its own orbits within the tolerance of the
+chosen ones, takes the same path, but for a seed that falls on the other side of
+a basin's boundary near a fold: the windows below follow the full model's own
+orbits there. The full model also runs through a window of the scene's grid around each
 sensitive point (the peaks of each curve, the superharmonic ones included, both
 sides of every jump, where contact is nearest to being lost, and where the
 chosen model differed most on the sample), continuing from the chosen model's
@@ -292,10 +295,9 @@ def _against_full(scene, study: StudyRun, sensitive: set[float]) -> tuple[float,
     in words.
 
     A step is the sweep's own: the full model at a point, continued from the chosen
-    orbit before it (from rest at a run's first point). Where the chosen orbits are
-    within the tolerance of the full model's, its sweep takes the same path step by
-    step; a step that lands elsewhere (a coexisting orbit the chosen model lacks, or
-    none settled) is where the paths part. All steps run as lanes of one batch."""
+    orbit before it (from rest at a run's first point). A step that lands elsewhere (a
+    coexisting orbit the chosen model lacks, or none settled) is where the paths part.
+    The steps run as lanes of one sweep (``_full_through``), the windows as another."""
     runs, curves = study.outcomes[0].runs, observe(scene, study.outcomes, None)
     points = Orbits.stack(runs)
     if not points.orbit_found.all():  # a point the chosen model did not settle cannot vouch

@@ -86,7 +86,7 @@ class Study:
     check: Callable | None = None
 
 
-# --- the studies of issue 13: continuation, fold curves, the atlas --------------------------
+# --- the continuation studies: continuation, fold curves, the atlas --------------------------
 
 def _walk_options(module: str) -> dict[str, Option]:
     """The step control of a pseudo-arclength walk, with ``module``'s defaults."""

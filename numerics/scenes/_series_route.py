@@ -3,19 +3,20 @@
 For a sweep scene asking for App and extrema, the consistent series of the
 contact's own equation in contact (Eq. 2.5 carried on: every Taylor term of the
 spring and the damper up to the order; Eq. 2.7, 2.8's scheme, order
-``SERIES_ORDER``, compiled) is a candidate route where every point of the scene
-has exactly one response of the series, valid at the selection's margin of the
-tolerance (its error estimate, which includes the terms it leaves out, and contact
-kept). It stands for the full model (``SERIES_EFFECTS``): where it is valid, the
-slider stays in contact. Several responses at
-a point (a bent peak) make the answer depend on the sweep's path, which the series
-does not follow.
+``SERIES_ORDER``; its compiled kernels where built, else the scheme's numba
+kernel, as ``engine="auto"`` takes them) is a candidate route where every point
+of the scene has exactly one response of the series, valid at the selection's
+margin of the tolerance (its error estimate, which includes the terms it leaves
+out, and contact kept). It stands for the full model (``SERIES_EFFECTS``): where
+it is valid, the slider stays in contact. Several responses at a point (a bent
+peak, or a root the series cannot vouch for) make the answer depend on the
+sweep's path, which the series does not follow.
 
 A candidate is given as the scene's sweep would give it (``Sweep``, one run per
 amplitude and direction), each point with the state at the drive's phase 0 of the
 orbit the series describes (``perturb.series_orbits``), so that it is checked
-against the full model as a reduced model is: the full model's steady state is
-run through every step of the sweep from that state at the point before. One
+against the full model as a reduced model is: the full model takes every step of
+the sweep from that state at the point before. One
 valid response of the series does not exclude orbits it cannot describe (a
 period-2 orbit of the full model near 2 f_n0, where the series sees a quiet
 period-1 response): the check finds them.
@@ -29,8 +30,6 @@ import numpy as np
 
 from common import Status
 from perturb import FULL, eq26_numbers, frequency_response
-from perturb._response_codegen import series_kernels
-from perturb._truncation import truncation_for
 
 from .._orbits import Orbits
 from .._steady import DEFAULTS
@@ -51,7 +50,7 @@ SERIES_TRUNCATION = "consistent"
 SERIES_EFFECTS = FULL
 SERIES_LABEL = (f"the perturbation series of the contact's own laws (consistent truncation), "
                 f"order {SERIES_ORDER} (no simulation)")
-RECORDER = (f"the compiled consistent series of order {SERIES_ORDER}: one response per point, its "
+RECORDER = (f"the consistent series of order {SERIES_ORDER}: one response per point, its "
             "extrema and its state at the drive's phase 0")
 
 
@@ -63,18 +62,17 @@ def series_study(scene: Scene, grid: np.ndarray, tolerance: float
         return None, f"the series gives {', '.join(sorted(SERIES_OBSERVABLES))} of a sweep", 0.0
     if scene.animation and scene.animation["kind"] != "sweep":
         return None, "the slider's animation replays a simulated orbit", 0.0
-    # Built once per order, set of kept terms and cache, before the clock starts.
-    series_kernels(SERIES_ORDER, truncation_for(SERIES_TRUNCATION, scene.parameters))
     start = time.perf_counter()
     responses = [frequency_response(grid, frac, SERIES_ORDER, parameters=scene.parameters,
-                                    tolerance=tolerance, engine="compiled",
+                                    tolerance=tolerance, engine="auto",
                                     truncation=SERIES_TRUNCATION)
                  for frac in scene.pa_frac]
     for frac, response in zip(scene.pa_frac, responses):
         several = int(np.sum(response.roots_per_frequency() != 1))
         if several:
             return None, (f"at {frac:g} Q, {several} of {grid.size} frequencies have no "
-                          f"response or several (a bent peak)"), 0.0
+                          f"response or several (a bent peak, or a root the series "
+                          f"cannot vouch for)"), 0.0
         invalid = int(np.sum(~response.branches[0].valid))
         if invalid:
             return None, (f"at {frac:g} Q, {invalid} of {grid.size} responses are not valid "

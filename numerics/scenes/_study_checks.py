@@ -1,5 +1,5 @@
 """What the options of a study cannot check one by one: the checks of the studies of
-issue 13 (continuation, fold curves, the atlas), made when the scene is read.
+the continuation studies (continuation, fold curves, the atlas), made when the scene is read.
 
 Each check sees the scene's values (``Checked``), asks the API's own checks where it
 has them, and raises ``Invalid`` naming the scene's key; the reader turns that into a

@@ -131,7 +131,7 @@ def _goal(workers: int) -> None:
     goal = time.perf_counter() - start
     goal_cells = GOAL_GRID[0] * GOAL_GRID[1]
     estimate = small / cells * goal_cells
-    header(f"Issue 13's goal: {GOAL_GRID[0]} x {GOAL_GRID[1]} cells, 50 initial states, "
+    header(f"The goal: {GOAL_GRID[0]} x {GOAL_GRID[1]} cells, 50 initial states, "
            f"under {GOAL_S:g} s ({workers} workers)")
     row(f"{GRID[0]} x {GRID[1]} cells, 50 states [ms per cell]", small / cells * 1e3, unit="ms")
     row(f"  extrapolated to {goal_cells} cells [s] vs the goal", estimate, GOAL_S, "s",

@@ -140,7 +140,7 @@ def main() -> None:
                 imports["old"][column], "s", higher_is_better=False)
     print("commands: " + "; ".join(f"python -m numerics {' '.join(args)}"
                                    for args in COMMANDS.values()))
-    print("goals [s] (issue 12): " + ", ".join(f"{n} <= {g}" for n, (_, g) in ISSUE.items()))
+    print("goals [s]: " + ", ".join(f"{n} <= {g}" for n, (_, g) in ISSUE.items()))
     print("heavy modules imported (new route, cache warm): "
           + "; ".join(f"{name}: {found}" for name, found in heavy.items()))
     print("new route: the compiled sweep driver built before the timing (make compiled); "

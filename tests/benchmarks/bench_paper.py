@@ -310,7 +310,7 @@ def main() -> None:
            f"median of {GC_REPEATS}, in turn; baseline: the garbage collector on")
     row("garbage collector off (as `python -m paper_checks` runs)", start["off"],
         start["on"], "s", higher_is_better=False)
-    print(f"goals (issue 12): cold <= {GOALS['cold']:g} s, warm <= {GOALS['warm']:g} s; "
+    print(f"goals: cold <= {GOALS['cold']:g} s, warm <= {GOALS['warm']:g} s; "
           f"{os.cpu_count()} processors; load average {load:.1f} before this benchmark, "
           f"{os.getloadavg()[0]:.1f} after (worker processes gain only on processors the "
           "machine's other work leaves idle)")

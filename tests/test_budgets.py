@@ -5,14 +5,18 @@ it with exit status 2 and one line naming the option.
 Hypothesis feeds each option sizes from 1 to 10^12. Refusal is checked by running the
 command's parser (argparse types) and the API's own checks, which raise before any
 allocation; an accepted size is held to the measured limit (the tests that measure the
-limits: tests/test_cli_errors.py, tests/test_backbone.py)."""
+limits: tests/test_cli_errors.py, tests/test_backbone.py). Then whole commands run in
+new processes on sizes spread over the orders of magnitude: a refused size exits 2 at
+once, an accepted one finishes, or is still working when its window closes, within
+2 GiB (the peak at each limit, run to the end: tests/benchmarks/bench_limits.py)."""
 
 import argparse
 import contextlib
 import io
+import sys
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from numerics import cli
@@ -22,6 +26,7 @@ from numerics._steady import MAX_STEPS
 from numerics._sweep import MAX_STATES
 from numerics.cli._steady import MAX_STEADY_STEPS
 from perturb.__main__ import _parser as perturb_parser
+from tests._peak_memory import BUDGET_BYTES, peak_memory
 
 SIZES = st.integers(1, 10**12)
 
@@ -76,3 +81,37 @@ def test_an_order_past_its_limit_is_refused_before_any_work(order, command):
     else:  # (tests/test_cli_errors.py runs each command past its limit)
         with pytest.raises(ValueError, match=f"is above {limit}"):
             check_slow_order(args.order, argv[0], "paper", allow_slow=args.allow_slow)
+
+
+#: Sizes spread over the orders of magnitude, 1 to 10^12.
+SPREAD = st.integers(0, 11).flatmap(lambda e: st.integers(10**e, 10**(e + 1)))
+_NUMERICS, _PERTURB = [sys.executable, "-m", "numerics"], [sys.executable, "-m", "perturb"]
+#: (the command with the size in it, least, limit): cheap commands apart from the size.
+RUNS = {
+    "sweep --points": (lambda n: [*_NUMERICS, "sweep", "--points", n, "--fmin", "1000",
+                                  "--fmax", "1100", "--pa-frac", "0.05", "--direction", "up"],
+                       2, MAX_STATES),
+    "sweep --steps": (lambda n: [*_NUMERICS, "sweep", "--steps", n, "--points", "2", "--fmin",
+                                 "1000", "--fmax", "1001", "--pa-frac", "0.05"],
+                      4, MAX_STEADY_STEPS),
+    "continue --steps": (lambda n: [*_NUMERICS, "continue", "--steps", n, "--pa-frac", "0.05",
+                                    "--fmin", "1000", "--fmax", "1005"], 4, MAX_STEPS),
+    "backbone --points": (lambda n: [*_NUMERICS, "backbone", "--points", n], 1, MAX_POINTS),
+    "derive --order": (lambda n: [*_PERTURB, "derive", "--order", n], 0, 24),
+    "response --order": (lambda n: [*_PERTURB, "response", "--order", n, "--points", "3"],
+                         0, 24),
+}
+#: Seconds a command may work before it is stopped (its memory measured until then).
+WINDOW_S = 6.0
+
+
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(size=SPREAD, name=st.sampled_from(sorted(RUNS)))
+def test_a_whole_command_finishes_within_its_budget_or_is_refused(size, name):
+    command, least, limit = RUNS[name]
+    code, peak, seconds = peak_memory([*command(str(size)), "--quiet"], WINDOW_S)
+    if least <= size <= limit:
+        assert code in (0, None), (name, size, code)  # done, or working when stopped
+        assert peak < BUDGET_BYTES, (name, size, peak)
+    else:
+        assert code == 2 and seconds < WINDOW_S, (name, size, code, seconds)

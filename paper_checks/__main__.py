@@ -30,7 +30,7 @@ import atexit  # noqa: E402
 import gc  # noqa: E402
 import sys  # noqa: E402
 
-from common import int_at_least, output_dir  # noqa: E402
+from common import int_at_least, output_dir, run_command  # noqa: E402
 
 
 def _kernel_files() -> set[str]:
@@ -54,6 +54,11 @@ def main(argv: list[str] | None = None) -> int:
                         help="worker processes that run the scenes and draw their figures "
                              "(default: one per processor; 1: all in this process)")
     args = parser.parse_args(argv)
+    args.parser, args.run = parser, _run
+    return run_command(args)  # what goes wrong is said in one line, never a traceback
+
+
+def _run(args: argparse.Namespace) -> int:
     out = Path(args.out)  # checked (and created) by its type, before any work
     from ._report import write_report  # the checks, the scenes and what they import
 

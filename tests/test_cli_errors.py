@@ -313,3 +313,22 @@ def test_a_scene_past_the_ranges_is_refused_unless_unchecked(tmp_path):
         run_scene(parse_scene(text))
     run = run_scene(parse_scene("unchecked = true\n" + text))
     assert run.outcomes[0].runs[0].status.size == 1
+
+
+@pytest.mark.parametrize("error, code, said", [
+    (OSError(errno.ENOSPC, "No space left on device", "out/report.json"), 1,
+     "error: No space left on device: 'out/report.json'"),
+    (RuntimeError("a fault of its own"), 1, "internal error (RuntimeError('a fault of its own'))"),
+])
+def test_paper_checks_says_a_failure_in_one_line(tmp_path, monkeypatch, capsys, error, code,
+                                                 said):
+    import paper_checks._report
+    from paper_checks.__main__ import main
+
+    def fail(*args, **kwargs):
+        raise error
+
+    monkeypatch.setattr(paper_checks._report, "write_report", fail)
+    assert main(["--quick", "--out", str(tmp_path / "out")]) == code
+    err = capsys.readouterr().err
+    assert said in err and "Traceback" not in err and len(err.strip().splitlines()) == 1

@@ -70,6 +70,28 @@ def _guard_contact_branch(expr: sp.Expr, y: sp.Symbol) -> sp.Expr:
     return expr.replace(lambda e: isinstance(e, sp.Piecewise), guard)
 
 
+#: Where a contact side's law holds y when y is below it (and past the switch).
+TINY_Y = 1e-300
+
+
+def _one_side(expr: sp.Expr, y: sp.Symbol, contact: bool) -> sp.Expr:
+    """The law of one side of the switch at y = 0: every Piecewise replaced by its
+    in-contact branch (guarded, so that it extends past y = 0 with y held at TINY_Y) or by its
+    out-of-contact branch. Events integrate each side with its own law, up to the
+    switch and a little past it while they locate it."""
+    import sympy as sp
+
+    def pick(piecewise: sp.Piecewise) -> sp.Expr:
+        for branch, condition in piecewise.args:
+            if (condition == (y > 0)) == contact:
+                # y held at TINY_Y: a law's derivative that is infinite at y = 0 (l < 1)
+                # stays finite there.
+                return branch.subs(y, sp.Max(y, TINY_Y)) if contact else branch
+        raise ValueError(f"a law switches on another condition than y > 0: {piecewise}")
+
+    return expr.replace(lambda e: isinstance(e, sp.Piecewise), pick)
+
+
 def _lambdified_source(name: str, expr, model: ContactModel) -> str:
     import sympy as sp
 
@@ -97,11 +119,21 @@ def acceleration_source(model: ContactModel) -> str:
     accel = model.numeric_acceleration(_force_symbol())
     partials = [sp.diff(accel, s) for s in (symbols.y, symbols.v, _force_symbol())]
     guard = lambda e: _guard_contact_branch(e, symbols.y)  # noqa: E731
+    switches = accel.has(sp.Piecewise)
+    sides = []
+    for contact, side in ((True, "contact"), (False, "flight")):
+        law = lambda e: _one_side(e, symbols.y, contact) if switches else guard(e)  # noqa: E731,B023
+        sides.append(_lambdified_source(f"acceleration_{side}", law(accel), model)
+                     + _lambdified_source(f"acceleration_partials_{side}",
+                                          tuple(map(law, partials)), model))
     # lambdify's "math" namespace: its source names math functions unqualified.
     return (
         f"from math import *  # noqa: F403\n\n# Eq. 2.4 for {model!r}\n"
+        f"# Whether the laws switch at y = 0 (contact loss): steps across it are split there.\n"
+        f"SWITCHES = {switches}\n\n"
         + _lambdified_source("acceleration", guard(accel), model)
         + _lambdified_source("acceleration_partials", tuple(map(guard, partials)), model)
+        + "".join(sides)
     )
 
 

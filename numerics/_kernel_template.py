@@ -52,9 +52,13 @@ def advance_step(y, v, dt, p_a, drive, k):
     """Advance every lane by step k of the period (drive: cos table, 2N + 1 long)."""
     c0, ch, c1 = drive_at_step(drive, k)
     for lane in range(y.shape[0]):
+        y_start, v_start = y[lane], v[lane]
         y[lane], v[lane] = rk4_step(
-            y[lane], v[lane], dt[lane], p_a[lane] * c0, p_a[lane] * ch, p_a[lane] * c1
+            y_start, v_start, dt[lane], p_a[lane] * c0, p_a[lane] * ch, p_a[lane] * c1
         )
+        if SWITCHES and near_switch(y_start, v_start, y[lane], v[lane], dt[lane]):  # noqa: F821
+            y[lane], v[lane] = switched(y_start, v_start, dt[lane], p_a[lane], k, drive,
+                                        y[lane], v[lane])
 
 
 @numba.njit(cache=True)
@@ -183,8 +187,13 @@ def record_periods(
                 c0, ch, c1 = drive_at_step(drive, start + j)
                 for lane in range(width):
                     pa = pas[lane]
-                    ys[lane], vs[lane] = rk4_step(ys[lane], vs[lane], dts[lane], pa * c0,
+                    y_start, v_start = ys[lane], vs[lane]
+                    ys[lane], vs[lane] = rk4_step(y_start, v_start, dts[lane], pa * c0,
                                                   pa * ch, pa * c1)
+                    if SWITCHES and near_switch(y_start, v_start, ys[lane], vs[lane],  # noqa: F821
+                                                dts[lane]):
+                        ys[lane], vs[lane] = switched(y_start, v_start, dts[lane], pa,
+                                                      start + j, drive, ys[lane], vs[lane])
                     block_y[j + 1, lane] = ys[lane]
                     block_v[j + 1, lane] = vs[lane]
             for lane in range(lanes):
@@ -268,27 +277,34 @@ def rk4_step_tangents(y, v, dy, dv, ey, ev, dt, force_start, force_mid, force_en
 
 
 @numba.njit(cache=True, inline="always")
-def stage_partials(y, v, force):
-    """a and its partials by y, v and the force at one stage: (a, a_y, a_v, a_force)."""
+def stage_partials(y, v, force, law):
+    """a and its partials by y, v and the force at one stage: (a, a_y, a_v, a_force), by
+    the model's law (``law`` PIECEWISE) or by one side's (CONTACT, FLIGHT: ``SWITCHES``)."""
+    if law == CONTACT:
+        a_y, a_v, a_force = acceleration_partials_contact(y, v, force)  # noqa: F821
+        return acceleration_contact(y, v, force), a_y, a_v, a_force  # noqa: F821
+    if law == FLIGHT:
+        a_y, a_v, a_force = acceleration_partials_flight(y, v, force)  # noqa: F821
+        return acceleration_flight(y, v, force), a_y, a_v, a_force  # noqa: F821
     a_y, a_v, a_force = acceleration_partials(y, v, force)  # noqa: F821
     return acceleration(y, v, force), a_y, a_v, a_force  # noqa: F821
 
 
 @numba.njit(cache=True, inline="always")
-def rk4_step_columns(y, v, dt, p_a, c0, ch, c1, dy, dv, dt_seed, p_a_seed):
+def rk4_step_columns(y, v, dt, p_a, c0, ch, c1, dy, dv, dt_seed, p_a_seed, law=0):
     """One RK4 step of one lane and its derivative along each column of (dy, dv) (in
     place): the derivative of the discrete step by the start state, and, for a column
     with ``dt_seed`` or ``p_a_seed`` 1, by dt or by P_a (the drive is P_a (c0, ch, c1)
     at the step's stages). The stages' partials are computed once for all columns.
     With both seeds 0 a column's arithmetic is that of ``rk4_step_tangents``, term for
-    term: the same numbers, to the last bit."""
-    a1, y1_y, y1_v, y1_f = stage_partials(y, v, p_a * c0)
+    term: the same numbers, to the last bit. ``law``: as ``stage_partials``'."""
+    a1, y1_y, y1_v, y1_f = stage_partials(y, v, p_a * c0, law)
     y2, v2 = y + 0.5 * dt * v, v + 0.5 * dt * a1
-    a2, y2_y, y2_v, y2_f = stage_partials(y2, v2, p_a * ch)
+    a2, y2_y, y2_v, y2_f = stage_partials(y2, v2, p_a * ch, law)
     y3, v3 = y + 0.5 * dt * v2, v + 0.5 * dt * a2
-    a3, y3_y, y3_v, y3_f = stage_partials(y3, v3, p_a * ch)
+    a3, y3_y, y3_v, y3_f = stage_partials(y3, v3, p_a * ch, law)
     y4, v4 = y + dt * v3, v + dt * a3
-    a4, y4_y, y4_v, y4_f = stage_partials(y4, v4, p_a * c1)
+    a4, y4_y, y4_v, y4_f = stage_partials(y4, v4, p_a * c1, law)
     sum_v = v + 2.0 * v2 + 2.0 * v3 + v4
     sum_a = a1 + 2.0 * a2 + 2.0 * a3 + a4
     for col in range(dy.shape[0]):
@@ -303,6 +319,206 @@ def rk4_step_columns(y, v, dt, p_a, c0, ch, c1, dy, dv, dt_seed, p_a_seed):
         dy[col] = e1 + dt / 6.0 * (g1 + 2.0 * g2 + 2.0 * g3 + g4) + t / 6.0 * sum_v
         dv[col] = g1 + dt / 6.0 * (da1 + 2.0 * da2 + 2.0 * da3 + da4) + t / 6.0 * sum_a
     return y + dt / 6.0 * sum_v, v + dt / 6.0 * sum_a
+
+
+# --- contact switches located within the step --------------------------------------------
+# A step across y = 0 integrates straight over the switch of the laws, and RK4 falls to
+# about second order there (first where a law jumps, as the damping of l = 0 does). Such
+# a step is split at the switch: the crossing is bracketed on the step's cubic Hermite
+# interpolant, located by the Illinois method on RK4 sub-steps of the side it starts on
+# (its own law, extended past y = 0), and the step goes on from it with the other side's
+# law. The step grid per period stays (the phase lock): the drive at a fraction s of step
+# k is cos(pi (2k + 2s) / N), the table's own formula. The derivative of the step (the
+# columns) carries the saltation matrix at each switch: with f = (v, a) and the switch
+# at y = 0 crossed with velocity v*, S = I + (f_after - f_before) e_y^T / v*, which
+# adds (a_after - a_before) / v* times a column's dy to its dv.
+
+#: Laws a step may integrate with: the model's (piecewise), or one side's of y = 0.
+PIECEWISE, CONTACT, FLIGHT = 0, 1, 2
+#: Switches one step may hold; more is chattering (ever shorter flights): the lane fails.
+MAX_EVENTS = 16
+#: Illinois iterations that locate a switch (each one RK4 sub-step); it stops earlier
+#: once the bracket is below EVENT_RESOLUTION of the step.
+EVENT_ITERATIONS = 60
+EVENT_RESOLUTION = 1e-14
+#: A step is looked at for a switch when an end lies within this many times
+#: dt (|v_start| + |v_end|) of y = 0 on its side: the cubic Hermite interpolant dips at
+#: most 4/27 of that below its lower end (0.2 leaves a margin), or y changes sign.
+NEAR_SWITCH = 0.2
+
+
+@numba.njit(cache=True, inline="always")
+def acceleration_law(y, v, force, law):
+    """The acceleration by one side's law (CONTACT, FLIGHT) or the model's (PIECEWISE)."""
+    if law == CONTACT:
+        return acceleration_contact(y, v, force)  # noqa: F821
+    if law == FLIGHT:
+        return acceleration_flight(y, v, force)  # noqa: F821
+    return acceleration(y, v, force)  # noqa: F821
+
+
+@numba.njit(cache=True, inline="always")
+def near_switch(y0, v0, y1, v1, dt):
+    """Whether a step from (y0, v0) to (y1, v1) may cross y = 0 (a cheap, sure test)."""
+    reach = NEAR_SWITCH * dt * (abs(v0) + abs(v1)) + 0.1 * abs(y1 - y0)
+    return ((y0 > 0.0) != (y1 > 0.0)) or min(abs(y0), abs(y1)) < reach
+
+
+@numba.njit(cache=True, inline="always")
+def drive_at(k, fraction, steps):
+    """cos of the drive's phase at ``fraction`` of step k of N: the table's formula."""
+    return math.cos(math.pi * (2.0 * k + 2.0 * fraction) / steps)
+
+
+@numba.njit(cache=True)
+def side_step(y, v, dt, p_a, k, steps, start, end, law, dy, dv, dt_seed, p_a_seed):
+    """RK4 from fraction ``start`` to ``end`` of step k by one side's law (and the columns'
+    derivative, their dt seed scaled by the sub-step's share of dt)."""
+    share = end - start
+    c0, ch, c1 = drive_at(k, start, steps), drive_at(k, 0.5 * (start + end), steps), \
+        drive_at(k, end, steps)
+    if dy.shape[0] == 0:  # the state alone: no partials (infinite at y = 0 where l < 1)
+        h, f0, fh, f1 = dt * share, p_a * c0, p_a * ch, p_a * c1
+        a1 = acceleration_law(y, v, f0, law)
+        v2 = v + 0.5 * h * a1
+        a2 = acceleration_law(y + 0.5 * h * v, v2, fh, law)
+        v3 = v + 0.5 * h * a2
+        a3 = acceleration_law(y + 0.5 * h * v2, v3, fh, law)
+        v4 = v + h * a3
+        a4 = acceleration_law(y + h * v3, v4, f1, law)
+        return (y + h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4),
+                v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4))
+    return rk4_step_columns(y, v, dt * share, p_a, c0, ch, c1, dy, dv, dt_seed * share,
+                            p_a_seed, law)
+
+
+@numba.njit(cache=True)
+def first_crossing(y0, v0, y1, v1, h, contact):
+    """The first fraction in (0, 1] of a step of length h where its cubic Hermite
+    interpolant leaves the side it starts on (y > 0 in contact), or -1: the end if it
+    is across, else the interpolant's first extremum across (a grazing touch)."""
+    side = 1.0 if contact else -1.0
+    c2 = -3.0 * y0 - 2.0 * h * v0 + 3.0 * y1 - h * v1
+    c3 = 2.0 * y0 + h * v0 - 2.0 * y1 + h * v1
+    best = 1.0 if side * y1 <= 0.0 else 2.0
+    # The extrema: roots of p'(s) = h v0 + 2 c2 s + 3 c3 s^2.
+    a, b, c = 3.0 * c3, 2.0 * c2, h * v0
+    roots = np.full(2, -1.0)
+    if a != 0.0:
+        disc = b * b - 4.0 * a * c
+        if disc >= 0.0:
+            root = math.sqrt(disc)
+            roots[0], roots[1] = (-b - root) / (2.0 * a), (-b + root) / (2.0 * a)
+    elif b != 0.0:
+        roots[0] = -c / b
+    for s in roots:
+        if 0.0 < s < best and side * (y0 + s * (h * v0 + s * (c2 + s * c3))) <= 0.0:
+            best = s
+    return best if best <= 1.0 else -1.0
+
+
+@numba.njit(cache=True)
+def locate_switch(y, v, dt, p_a, k, steps, start, end, law):
+    """The fraction in (start, end] where RK4 by ``law`` from (y, v) at ``start`` reaches
+    y = 0 (the Illinois method; y's sign at ``end`` is across), and the state there."""
+    side = 1.0 if law == CONTACT else -1.0
+    none = np.empty(0)  # no columns
+    lo, hi = start, end
+    g_lo = side * y if y != 0.0 else 1e-300  # just past a switch: on its new side
+    y_hi, v_hi = side_step(y, v, dt, p_a, k, steps, start, end, law, none, none, none, none)
+    g_hi = side * y_hi
+    kept = 0
+    mid = hi
+    for _ in range(EVENT_ITERATIONS):
+        mid = (lo * g_hi - hi * g_lo) / (g_hi - g_lo)
+        if not lo < mid < hi:
+            mid = 0.5 * (lo + hi)
+        y_mid, _v = side_step(y, v, dt, p_a, k, steps, start, mid, law, none, none, none, none)
+        g_mid = side * y_mid
+        if g_mid > 0.0:
+            lo, g_lo = mid, g_mid
+            if kept == 1:
+                g_hi *= 0.5
+            kept = 1
+        else:
+            hi, g_hi = mid, g_mid
+            if kept == -1:
+                g_lo *= 0.5
+            kept = -1
+        if g_mid == 0.0 or hi - lo < EVENT_RESOLUTION:
+            break
+    return mid
+
+
+@numba.njit(cache=True)
+def event_step(y, v, dt, p_a, k, steps, y_end, v_end, dy, dv, dt_seed, p_a_seed, dy_start,
+               dv_start):
+    """Step k of a lane near y = 0, split at every switch of the laws within it.
+
+    (y_end, v_end) and the columns (dy, dv) hold the straight step's result: kept, to the
+    last bit, unless its interpolant crosses y = 0. Otherwise the step is taken again
+    from (y, v) and the columns (dy_start, dv_start), side by side, each switch located
+    and its saltation applied. Returns (y, v, switches), switches -1 where more than
+    MAX_EVENTS were met: (NaN, NaN), the lane fails."""
+    contact = y > 0.0
+    if first_crossing(y, v, y_end, v_end, dt, contact) < 0.0:
+        return y_end, v_end, 0
+    none = np.empty(0)  # no columns
+    copy_into(dy, dy_start)
+    copy_into(dv, dv_start)
+    start = 0.0
+    for event in range(MAX_EVENTS + 1):
+        law = CONTACT if contact else FLIGHT
+        y1, v1 = side_step(y, v, dt, p_a, k, steps, start, 1.0, law, none, none, none,
+                           none)
+        across = first_crossing(y, v, y1, v1, dt * (1.0 - start), contact)
+        end = start + across * (1.0 - start)
+        if across > 0.0 and across < 1.0:  # an extremum across: is it, by the step itself?
+            y_at, _v = side_step(y, v, dt, p_a, k, steps, start, end, law, none, none, none, none)
+            if (y_at > 0.0) == contact:
+                across = 1.0 if (y1 > 0.0) != contact else -1.0
+                end = 1.0
+        if across < 0.0:  # no switch left in the step
+            y1, v1 = side_step(y, v, dt, p_a, k, steps, start, 1.0, law, dy, dv, dt_seed,
+                               p_a_seed)
+            return y1, v1, event
+        if event == MAX_EVENTS:
+            break
+        at = locate_switch(y, v, dt, p_a, k, steps, start, end, law)
+        _y, v_at = side_step(y, v, dt, p_a, k, steps, start, at, law, dy, dv, dt_seed,
+                             p_a_seed)
+        if v_at != 0.0:  # the saltation matrix
+            force = p_a * drive_at(k, at, steps)
+            after = FLIGHT if contact else CONTACT
+            jump = (acceleration_law(0.0, v_at, force, after)
+                    - acceleration_law(0.0, v_at, force, law)) / v_at
+            for col in range(dy.shape[0]):
+                dv[col] += jump * dy[col]
+        y, v, start, contact = 0.0, v_at, at, not contact
+    return math.nan, math.nan, -1
+
+
+@numba.njit(cache=True)
+def switched(y, v, dt, p_a, k, drive, y_end, v_end):
+    """``event_step`` of a state without columns (the drive table gives N)."""
+    steps = (drive.shape[0] - 1) // 2
+    none = np.empty(0)  # no columns
+    y1, v1, _ = event_step(y, v, dt, p_a, k, steps, y_end, v_end, none, none, none, none,
+                           none, none)
+    return y1, v1
+
+
+@numba.njit(cache=True)
+def switched_tangents(y, v, dt, p_a, k, drive, y_end, v_end, dy1, dv1, ey1, ev1, dy0, dv0,
+                      ey0, ev0):
+    """``event_step`` of a state and two tangent directions (as ``rk4_step_tangents``):
+    (dy1, dv1), (ey1, ev1) after the straight step, (dy0, dv0), (ey0, ev0) before it."""
+    steps = (drive.shape[0] - 1) // 2
+    dy, dv = np.array([dy1, ey1]), np.array([dv1, ev1])
+    seeds = np.zeros(2)
+    y1, v1, _ = event_step(y, v, dt, p_a, k, steps, y_end, v_end, dy, dv, seeds, seeds,
+                           np.array([dy0, ey0]), np.array([dv0, ev0]))
+    return y1, v1, dy[0], dv[0], dy[1], dv[1]
 
 
 @numba.njit(cache=True)
@@ -330,9 +546,14 @@ def shoot_periods(y, v, dt, p_a, drive, periods, monodromy):
                 pa = pas[lane]
                 yy, vv = ys[lane], vs[lane]
                 f0, fh, f1 = pa * c0, pa * ch, pa * c1
+                m0, m1, m2, m3 = m[0, lane], m[1, lane], m[2, lane], m[3, lane]
                 ys[lane], vs[lane], m[0, lane], m[1, lane], m[2, lane], m[3, lane] = (
-                    rk4_step_tangents(yy, vv, m[0, lane], m[1, lane], m[2, lane], m[3, lane],
-                                      dts[lane], f0, fh, f1))
+                    rk4_step_tangents(yy, vv, m0, m1, m2, m3, dts[lane], f0, fh, f1))
+                if SWITCHES and near_switch(yy, vv, ys[lane], vs[lane], dts[lane]):  # noqa: F821
+                    (ys[lane], vs[lane], m[0, lane], m[1, lane], m[2, lane],
+                     m[3, lane]) = switched_tangents(
+                        yy, vv, dts[lane], pa, k, drive, ys[lane], vs[lane], m[0, lane],
+                        m[1, lane], m[2, lane], m[3, lane], m0, m1, m2, m3)
     copy_into(y, ys)
     copy_into(v, vs)
     for lane in range(lanes):
@@ -358,13 +579,21 @@ def shoot_jacobian(y, v, dt, p_a, drive, periods, by_force, jacobian):
     # The columns' seeds: d/dy and d/dv at the start, then the parameter's.
     dt_seed = np.array([0.0, 0.0, 0.0 if by_force else 1.0])
     p_a_seed = np.array([0.0, 0.0, 1.0 if by_force else 0.0])
+    dy_start, dv_start = np.empty(3), np.empty(3)
     for lane in range(y.shape[0]):
         dy, dv = np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
         yy, vv, h, pa = y[lane], v[lane], dt[lane], p_a[lane]
         for _ in range(periods):
             for k in range(steps):
                 c0, ch, c1 = drive_at_step(drive, k)
+                y_start, v_start = yy, vv
+                if SWITCHES:  # noqa: F821
+                    copy_into(dy_start, dy)
+                    copy_into(dv_start, dv)
                 yy, vv = rk4_step_columns(yy, vv, h, pa, c0, ch, c1, dy, dv, dt_seed, p_a_seed)
+                if SWITCHES and near_switch(y_start, v_start, yy, vv, h):  # noqa: F821
+                    yy, vv, _ = event_step(y_start, v_start, h, pa, k, steps, yy, vv, dy, dv,
+                                           dt_seed, p_a_seed, dy_start, dv_start)
         y[lane], v[lane] = yy, vv
         copy_into(jacobian[lane, 0], dy)
         copy_into(jacobian[lane, 1], dv)
@@ -390,9 +619,13 @@ def lyapunov_periods(y, v, dy, dv, dt, p_a, drive, v_scale, log_growth, periods_
             c0, ch, c1 = drive_at_step(drive, k)
             for lane in range(lanes):
                 pa = p_a[lane]
+                yy, vv, ey, ev = y[lane], v[lane], dy[lane], dv[lane]
                 y[lane], v[lane], dy[lane], dv[lane], _, _ = rk4_step_tangents(
-                    y[lane], v[lane], dy[lane], dv[lane], 0.0, 0.0, dt[lane], pa * c0, pa * ch,
-                    pa * c1)
+                    yy, vv, ey, ev, 0.0, 0.0, dt[lane], pa * c0, pa * ch, pa * c1)
+                if SWITCHES and near_switch(yy, vv, y[lane], v[lane], dt[lane]):  # noqa: F821
+                    y[lane], v[lane], dy[lane], dv[lane], _, _ = switched_tangents(
+                        yy, vv, dt[lane], pa, k, drive, y[lane], v[lane], dy[lane], dv[lane],
+                        0.0, 0.0, ey, ev, 0.0, 0.0)
         block = period // periods_per_block
         for lane in range(lanes):
             norm = math.sqrt(dy[lane] * dy[lane] + (dv[lane] / v_scale) ** 2)

@@ -92,6 +92,14 @@ def _one_side(expr: sp.Expr, y: sp.Symbol, contact: bool) -> sp.Expr:
     return expr.replace(lambda e: isinstance(e, sp.Piecewise), pick)
 
 
+def side_laws(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """``expr`` by the law of each side of y = 0: (in contact, in flight), as the kernels
+    integrate them near a switch (``_one_side``); both ``expr`` where nothing switches."""
+    from perturb import symbols
+
+    return tuple(_one_side(expr, symbols.y, contact) for contact in (True, False))
+
+
 def _lambdified_source(name: str, expr, model: ContactModel) -> str:
     import sympy as sp
 

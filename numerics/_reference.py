@@ -2,8 +2,12 @@
 
 The right-hand side is lambdified from ``perturb.ContactModel`` (no formula is
 typed again), and integration stops at every crossing of y = 0, where the contact
-law has its kink, and restarts there, so that the adaptive steps never straddle
-it. It is slow and exact enough to judge the fast routes (work-precision, tests).
+law has its kink (or, for l = 0, its jump), and restarts there. Each piece is
+integrated with the law of the side it starts on, extended past y = 0 (the
+kernels' own side laws, ``numerics._codegen.side_laws``), so that the step that
+finds the crossing, and the dense output that locates it, never straddle the
+switch. It is slow and exact enough to judge the fast routes (work-precision,
+tests).
 """
 
 from __future__ import annotations
@@ -23,11 +27,13 @@ __all__ = ["reference_last_period"]
 
 @lru_cache(maxsize=16)
 def _rhs(parameters, effects):
+    """The acceleration by the law of each side of y = 0: (in contact, in flight)."""
+    from ._codegen import side_laws
+
     model = ContactModel(parameters, effects)
     force = sp.Symbol("force")
-    accel = sp.lambdify((symbols.y, symbols.v, force), model.numeric_acceleration(force),
-                        modules="math")
-    return accel
+    return tuple(sp.lambdify((symbols.y, symbols.v, force), law, modules="math")
+                 for law in side_laws(model.numeric_acceleration(force)))
 
 
 def _crossing(t, state, *args):
@@ -79,11 +85,12 @@ def reference_last_period(model: ContactModel, frequency_hz: float, p_a_n: float
     periods = check_int("periods", periods)
     rtol = check_positive("rtol", rtol)
     samples = check_int("samples", samples, 2)
-    accel = _rhs(model.parameters, model.effects)
+    laws = _rhs(model.parameters, model.effects)
     omega = 2 * np.pi * frequency_hz
+    side = [0 if y_init_m > 0 else 1]  # the law of the piece: 0 in contact, 1 in flight
 
     def rhs(t, state):
-        acceleration = accel(state[0], state[1], p_a_n * math.cos(omega * t))
+        acceleration = laws[side[0]](state[0], state[1], p_a_n * math.cos(omega * t))
         if not math.isfinite(acceleration):  # DOP853 would shrink its step forever
             raise RuntimeError(f"the acceleration is not finite at t = {t:.6g} s, "
                                f"y = {float(state[0]):.6g} m, v = {float(state[1]):.6g} m/s")
@@ -104,6 +111,7 @@ def reference_last_period(model: ContactModel, frequency_hz: float, p_a_n: float
         if solution.status != 1:  # reached the end
             break
         t, state = solution.t[-1], solution.y[:, -1]
+        side[0] = 1 - side[0]  # across: the other side's law
         # Step off the crossing so that the event does not fire again at once.
         t, state = _nudge(rhs, t, state, end)
     times = np.linspace(end - 1 / frequency_hz, end, samples)

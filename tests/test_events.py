@@ -1,0 +1,139 @@
+"""Contact switches located within the RK4 step.
+
+A step that crosses y = 0 is split there, and each side integrated with its own law
+(numerics/_kernel_template.py). Checked here against an independent integrator that
+locates each switch too (scipy's DOP853 with events, ``reference_last_period``):
+- RK4 converges at order 4 through loss of contact where the contact's laws are smooth
+  up to y = 0 from the contact side: the paper's contact (m2 = 2, l = 1) and the
+  spring-dashpot one (m2 = 1, l = 0, whose damping force jumps at every touch-down);
+- where a law is not (m2 = 1.5: y^1.5; l = 0.5: sqrt(y) v), the law itself limits
+  any fixed step near the switch, and the order measured is lower (stated below);
+- several switches within one step (a flight shorter than a step);
+- the monodromy matrix, with the saltation matrix at each switch, against finite
+  differences of the period map.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from numerics import simulate
+from numerics._codegen import compiled_kernels
+from numerics._reference import reference_last_period
+from perturb import PAPER, ContactModel, eq26_numbers, parameters_with
+
+Y0 = eq26_numbers().y0_m
+
+
+def contact(m2: float, l: float):
+    """A contact with exponents m2 and l whose y0 and c are the paper's (c_n and h_n
+    rescaled)."""
+    return parameters_with({"m2": m2, "l": l, "c_n": PAPER.Q_n / (PAPER.S * Y0**m2),
+                            "h_n": PAPER.h_n * Y0**PAPER.l / Y0**l})
+
+
+def _bouncing_start(model, f_e, p_a):
+    """A state on a bouncing orbit: 60 periods from a flight 2 um off the slideway."""
+    start = simulate(f_e, p_a, periods=60, steps_per_period=4096, model=model,
+                     y_init_m=-2e-6, record=("final", "minmax"))
+    assert start.ymin_m[0] < -1e-6  # it flies
+    return float(start.y_final_m[0]), float(start.v_final_m_s[0])
+
+
+def _errors(model, f_e, frac, steps):
+    """|y - y_reference| / y0 after 3 periods from a bouncing state, at each N."""
+    p_a = frac * model.parameters.Q_n
+    y, v = _bouncing_start(model, f_e, p_a)
+    _, reference = reference_last_period(model, f_e, p_a, y, v, 3, rtol=1e-13, samples=2)
+    out = []
+    for n in steps:
+        run = simulate(f_e, p_a, periods=3, steps_per_period=n, model=model, y_init_m=y,
+                       v_init_m_s=v, record=("final",))
+        out.append(abs(run.y_final_m[0] - reference[-1]) / Y0)
+    return np.array(out)
+
+
+@pytest.mark.parametrize("m2, l, f_e", [(2.0, 1.0, 490.0), (1.0, 0.0, 700.0)])
+def test_rk4_converges_at_order_four_through_loss_of_contact(m2, l, f_e):
+    # Measured slopes (N = 256 .. 2048): paper's 4.5, 3.4, 3.6, 3.8; spring-dashpot 3.9,
+    # 4.0, 4.0. Without the events: 2.7 and about 1 (the damping's jump).
+    steps = (512, 1024, 2048)
+    error = _errors(ContactModel(contact(m2, l)), f_e, 0.5, steps)
+    slopes = np.log2(error[:-1] / error[1:])
+    assert (slopes >= 3.5).all(), (error, slopes)
+    assert error[-1] < 1e-8
+
+
+def test_a_law_that_is_not_smooth_at_the_switch_limits_the_order():
+    # m2 = 1.5, l = 0.5: the damping sqrt(y) v grows as the square root of the time
+    # since touch-down, which no fixed step resolves: the error falls erratically, at
+    # about order 1.5 overall (measured 7.9e-3 at N = 64, 3.0e-5 at N = 4096). Held to
+    # what it is, so that a change is seen.
+    error = _errors(ContactModel(contact(1.5, 0.5)), 490.0, 0.5, (64, 4096))
+    assert error[1] < 1e-4 and error[0] / error[1] > 100
+
+
+def test_several_switches_within_one_step():
+    # In contact a picometre above the slideway, leaving at 0.1 mm/s: the weight brings
+    # the slider back after some 20.4 us, inside one step of 25 us (80 steps a period
+    # at 500 Hz): two switches in the step, each located, and 4.6 us in contact after.
+    model = ContactModel()
+    kernels = compiled_kernels(model)
+    f_e, steps = 500.0, 80
+    y, v = 1e-12, -1e-4
+    dt = 1.0 / (steps * f_e)
+    none = np.empty(0)
+    y1, v1, switches = kernels.event_step(y, v, dt, 0.0, 0, steps, -1.0, 0.0, none, none, none,
+                                          none, none, none)
+    assert switches == 2
+    # The reference over the same step (DOP853 with events, one step = 1/16 period).
+    from scipy.integrate import solve_ivp
+
+    a = kernels.acceleration_batch
+    def rhs(t, z):
+        return [z[1], a(np.array([z[0]]), np.array([z[1]]), np.array([0.0]))[0]]
+    event = lambda t, z: z[0]  # noqa: E731
+    event.terminal = True
+    t, z = 0.0, [y, v]
+    for _ in range(3):
+        sol = solve_ivp(rhs, (t, dt), z, method="DOP853", rtol=1e-13, atol=1e-24,
+                        events=event)
+        if sol.status != 1:
+            break
+        t, z = sol.t_events[0][0], [math.copysign(1e-300, sol.y_events[0][0][1]),
+                                    sol.y_events[0][0][1]]
+    end = sol.y[:, -1]
+    # Within RK4's own error over the 4.6 us in contact (omega0 h = 0.043: some 1e-9;
+    # measured 7e-9 of y, 3.4e-9 of v).
+    assert abs(y1 / end[0] - 1) < 3e-8 and abs(v1 / end[1] - 1) < 3e-8
+
+
+@pytest.mark.parametrize("m2, l", [(2.0, 1.0), (1.0, 0.0)])
+def test_the_monodromy_carries_the_saltation_matrix(m2, l):
+    # The derivative of one period of the map, by the kernel (each step's derivative,
+    # the saltation matrix at each switch), against central differences of the map.
+    model = ContactModel(contact(m2, l))
+    kernels = compiled_kernels(model)
+    f_e, steps = 490.0, 512
+    p_a = 0.5 * model.parameters.Q_n
+    y, v = _bouncing_start(model, f_e, p_a)
+    drive = np.cos(np.pi * np.arange(2 * steps + 1) / steps)
+    dt = np.array([1.0 / (steps * f_e)])
+
+    def period(y_start, v_start):
+        yy, vv, m = np.array([y_start]), np.array([v_start]), np.empty((1, 2, 2))
+        kernels.shoot_periods(yy, vv, dt, np.array([p_a]), drive, 1, m)
+        return np.array([yy[0], vv[0]]), m[0]
+
+    _, monodromy = period(y, v)
+    scale = np.array([Y0, Y0 * 2 * np.pi * f_e])  # y, v
+    numeric = np.empty((2, 2))
+    for col in range(2):
+        h = 1e-7 * scale[col]
+        plus, _ = period(y + h * (col == 0), v + h * (col == 1))
+        minus, _ = period(y - h * (col == 0), v - h * (col == 1))
+        numeric[:, col] = (plus - minus) / (2 * h)
+    relative = np.abs(monodromy - numeric) * scale[None, :] / scale[:, None]
+    assert relative.max() < 1e-5 * np.abs(monodromy * scale[None, :] / scale[:, None]).max(), (
+        monodromy, numeric)

@@ -336,7 +336,7 @@ def rk4_step_columns(y, v, dt, p_a, c0, ch, c1, dy, dv, dt_seed, p_a_seed, law=0
 #: Laws a step may integrate with: the model's (piecewise), or one side's of y = 0.
 PIECEWISE, CONTACT, FLIGHT = 0, 1, 2
 #: Switches one step may hold; more is chattering (ever shorter flights): the lane fails.
-MAX_EVENTS = 16
+MAX_SWITCHES = 16
 #: Illinois iterations that locate a switch (each one RK4 sub-step); it stops earlier
 #: once the bracket is below EVENT_RESOLUTION of the step.
 EVENT_ITERATIONS = 60
@@ -459,7 +459,7 @@ def event_step(y, v, dt, p_a, k, steps, y_end, v_end, dy, dv, dt_seed, p_a_seed,
     last bit, unless its interpolant crosses y = 0. Otherwise the step is taken again
     from (y, v) and the columns (dy_start, dv_start), side by side, each switch located
     and its saltation applied. Returns (y, v, switches), switches -1 where more than
-    MAX_EVENTS were met: (NaN, NaN), the lane fails."""
+    MAX_SWITCHES were met: (NaN, NaN), the lane fails."""
     contact = y > 0.0
     if first_crossing(y, v, y_end, v_end, dt, contact) < 0.0:
         return y_end, v_end, 0
@@ -467,7 +467,7 @@ def event_step(y, v, dt, p_a, k, steps, y_end, v_end, dy, dv, dt_seed, p_a_seed,
     copy_into(dy, dy_start)
     copy_into(dv, dv_start)
     start = 0.0
-    for event in range(MAX_EVENTS + 1):
+    for event in range(MAX_SWITCHES + 1):
         law = CONTACT if contact else FLIGHT
         y1, v1 = side_step(y, v, dt, p_a, k, steps, start, 1.0, law, none, none, none,
                            none)
@@ -482,7 +482,7 @@ def event_step(y, v, dt, p_a, k, steps, y_end, v_end, dy, dv, dt_seed, p_a_seed,
             y1, v1 = side_step(y, v, dt, p_a, k, steps, start, 1.0, law, dy, dv, dt_seed,
                                p_a_seed)
             return y1, v1, event
-        if event == MAX_EVENTS:
+        if event == MAX_SWITCHES:
             break
         at = locate_switch(y, v, dt, p_a, k, steps, start, end, law)
         _y, v_at = side_step(y, v, dt, p_a, k, steps, start, at, law, dy, dv, dt_seed,

@@ -26,6 +26,9 @@ __all__ = ["Lanes", "Recording", "drive_table", "divergence_limit", "failure_mes
 #: flight the drive can cause (g / f_e^2 is 8x the height of a period's free
 #: flight), so only an unstable step or a model with no floor gets there.
 DIVERGENCE_FACTOR = 1e3
+#: The kernels' MAX_SWITCHES (numerics/_kernel_template.py): a step with more switches
+#: of the contact makes its lane fail.
+MAX_SWITCHES = 16
 
 
 def drive_table(steps_per_period: int) -> np.ndarray:
@@ -48,8 +51,10 @@ def divergence_limit(model: ContactModel, frequency_hz: np.ndarray) -> np.ndarra
 
 def failure_message(frequency_hz: float, p_a_n: float, period: int, omega0_dt: float) -> str:
     """Why a lane failed, with a hint when the step is too large for the contact."""
-    message = (f"f_e={frequency_hz:g} Hz, P_a={p_a_n:g} N: state became non-finite or "
-               f"diverged (|y| > {DIVERGENCE_FACTOR:g} max(y0, g/f_e^2)) in period {period}")
+    message = (f"f_e={frequency_hz:g} Hz, P_a={p_a_n:g} N: state became non-finite, "
+               f"diverged (|y| > {DIVERGENCE_FACTOR:g} max(y0, g/f_e^2)), or met more than "
+               f"{MAX_SWITCHES} contact switches within one step (ever shorter flights) in "
+               f"period {period}")
     # RK4 is stable for omega * dt below 2 sqrt(2) on an undamped oscillator, and for
     # rate * dt below 2.78 on a decaying one.
     if omega0_dt >= 2.0:

@@ -137,3 +137,36 @@ def test_the_monodromy_carries_the_saltation_matrix(m2, l):
     relative = np.abs(monodromy - numeric) * scale[None, :] / scale[:, None]
     assert relative.max() < 1e-5 * np.abs(monodromy * scale[None, :] / scale[:, None]).max(), (
         monodromy, numeric)
+
+
+def test_a_lane_with_more_switches_in_a_step_than_the_limit_fails_and_says_why():
+    from numerics._lanes import MAX_SWITCHES, failure_message
+
+    kernels = compiled_kernels(ContactModel())
+    assert kernels.MAX_SWITCHES == MAX_SWITCHES  # one limit, said where lanes fail
+    assert f"more than {MAX_SWITCHES} contact switches" in failure_message(500.0, 1.0, 3, 0.1)
+
+
+@pytest.mark.parametrize("f_e, periods", [(700.0, [1, 1, 2]), (1000.0, [1, 2, 3])])
+def test_the_census_of_a_spring_dashpot_contact_is_the_event_located_one(f_e, periods):
+    # Without the events the census at 700 Hz found 5 attractors: a period-4 orbit
+    # that was the period-1 one and a period-6 that was the period-2 one (2048 steps a
+    # period were needed). Each attractor found at the default steps is held to DOP853
+    # with events from its start: App, and back at the start after its period.
+    from numerics import attractors
+
+    model = ContactModel(contact(1.0, 0.0))
+    census = attractors(f_e, 0.5, model=model)
+    assert sorted(a.period for a in census.attractors) == periods
+    lanes = census.lanes
+    for attractor in census.attractors:
+        p = attractor.period
+        lane = np.flatnonzero(lanes.settled & (lanes.period == p)
+                              & (np.abs(lanes.app_m / attractor.app_m - 1) < 1e-6))[0]
+        p_a, y, v = lanes.p_a_n[lane], lanes.y_start_m[lane], lanes.v_start_m_s[lane]
+        low, high = np.inf, -np.inf
+        for n in range(1, p + 1):
+            _, y_ref = reference_last_period(model, f_e, p_a, y, v, n, rtol=1e-12)
+            low, high = min(low, y_ref.min()), max(high, y_ref.max())
+        assert abs((high - low) / attractor.app_m - 1) < 1e-5, (p, high - low, attractor.app_m)
+        assert abs(y_ref[-1] - y) < 1e-5 * attractor.app_m

@@ -48,17 +48,28 @@ def drive_at_step(drive, k):
 
 
 @numba.njit(cache=True)
-def advance_step(y, v, dt, p_a, drive, k):
-    """Advance every lane by step k of the period (drive: cos table, 2N + 1 long)."""
+def advance_step(y, v, dt, p_a, drive, k, y_start, v_start):
+    """Advance every lane by step k of the period (drive: cos table, 2N + 1 long); the
+    state before it is left in (y_start, v_start). The lanes go straight, in one vector
+    loop; then the few near y = 0 are split at their switches (``settle_switches``)."""
     c0, ch, c1 = drive_at_step(drive, k)
     for lane in range(y.shape[0]):
-        y_start, v_start = y[lane], v[lane]
+        y_start[lane], v_start[lane] = y[lane], v[lane]
         y[lane], v[lane] = rk4_step(
-            y_start, v_start, dt[lane], p_a[lane] * c0, p_a[lane] * ch, p_a[lane] * c1
+            y_start[lane], v_start[lane], dt[lane], p_a[lane] * c0, p_a[lane] * ch,
+            p_a[lane] * c1
         )
-        if SWITCHES and near_switch(y_start, v_start, y[lane], v[lane], dt[lane]):  # noqa: F821
-            y[lane], v[lane] = switched(y_start, v_start, dt[lane], p_a[lane], k, drive,
-                                        y[lane], v[lane])
+    if SWITCHES:  # noqa: F821
+        settle_switches(y, v, dt, p_a, drive, k, y_start, v_start)
+
+
+@numba.njit(cache=True)
+def settle_switches(y, v, dt, p_a, drive, k, y_start, v_start):
+    """Step k of every lane whose straight step may cross y = 0, split at its switches."""
+    for lane in range(y.shape[0]):
+        if near_switch(y_start[lane], v_start[lane], y[lane], v[lane], dt[lane]):
+            y[lane], v[lane] = switched(y_start[lane], v_start[lane], dt[lane], p_a[lane], k,
+                                        drive, y[lane], v[lane])
 
 
 @numba.njit(cache=True)
@@ -75,9 +86,10 @@ def mark_failed(y, v, failed_period, period, limit):
 def advance_periods(y, v, dt, p_a, drive, periods, failed_period, limit):
     """Advance every lane by whole periods, recording nothing (the hot path)."""
     steps = (drive.shape[0] - 1) // 2
+    y_start, v_start = np.empty(y.shape[0]), np.empty(y.shape[0])
     for period in range(periods):
         for k in range(steps):
-            advance_step(y, v, dt, p_a, drive, k)
+            advance_step(y, v, dt, p_a, drive, k, y_start, v_start)
         mark_failed(y, v, failed_period, period, limit)
 
 
@@ -187,13 +199,11 @@ def record_periods(
                 c0, ch, c1 = drive_at_step(drive, start + j)
                 for lane in range(width):
                     pa = pas[lane]
-                    y_start, v_start = ys[lane], vs[lane]
-                    ys[lane], vs[lane] = rk4_step(y_start, v_start, dts[lane], pa * c0,
+                    ys[lane], vs[lane] = rk4_step(ys[lane], vs[lane], dts[lane], pa * c0,
                                                   pa * ch, pa * c1)
-                    if SWITCHES and near_switch(y_start, v_start, ys[lane], vs[lane],  # noqa: F821
-                                                dts[lane]):
-                        ys[lane], vs[lane] = switched(y_start, v_start, dts[lane], pa,
-                                                      start + j, drive, ys[lane], vs[lane])
+                if SWITCHES:  # noqa: F821 (row j holds the state before the step)
+                    settle_switches(ys, vs, dts, pas, drive, start + j, block_y[j], block_v[j])
+                for lane in range(width):
                     block_y[j + 1, lane] = ys[lane]
                     block_v[j + 1, lane] = vs[lane]
             for lane in range(lanes):
@@ -539,6 +549,8 @@ def shoot_periods(y, v, dt, p_a, drive, periods, monodromy):
     m[1, :] = 0.0
     m[2, :] = 0.0
     m[3, :] = 1.0
+    # The state and the columns before each step, for the lanes split at a switch.
+    before = np.empty((6, width))
     for _ in range(periods):
         for k in range(steps):
             c0, ch, c1 = drive_at_step(drive, k)
@@ -546,14 +558,21 @@ def shoot_periods(y, v, dt, p_a, drive, periods, monodromy):
                 pa = pas[lane]
                 yy, vv = ys[lane], vs[lane]
                 f0, fh, f1 = pa * c0, pa * ch, pa * c1
-                m0, m1, m2, m3 = m[0, lane], m[1, lane], m[2, lane], m[3, lane]
+                before[0, lane], before[1, lane] = yy, vv
+                before[2, lane], before[3, lane] = m[0, lane], m[1, lane]
+                before[4, lane], before[5, lane] = m[2, lane], m[3, lane]
                 ys[lane], vs[lane], m[0, lane], m[1, lane], m[2, lane], m[3, lane] = (
-                    rk4_step_tangents(yy, vv, m0, m1, m2, m3, dts[lane], f0, fh, f1))
-                if SWITCHES and near_switch(yy, vv, ys[lane], vs[lane], dts[lane]):  # noqa: F821
-                    (ys[lane], vs[lane], m[0, lane], m[1, lane], m[2, lane],
-                     m[3, lane]) = switched_tangents(
-                        yy, vv, dts[lane], pa, k, drive, ys[lane], vs[lane], m[0, lane],
-                        m[1, lane], m[2, lane], m[3, lane], m0, m1, m2, m3)
+                    rk4_step_tangents(yy, vv, m[0, lane], m[1, lane], m[2, lane], m[3, lane],
+                                      dts[lane], f0, fh, f1))
+            if SWITCHES:  # noqa: F821
+                for lane in range(width):
+                    b = before[:, lane]
+                    if near_switch(b[0], b[1], ys[lane], vs[lane], dts[lane]):
+                        (ys[lane], vs[lane], m[0, lane], m[1, lane], m[2, lane],
+                         m[3, lane]) = switched_tangents(
+                            b[0], b[1], dts[lane], pas[lane], k, drive, ys[lane], vs[lane],
+                            m[0, lane], m[1, lane], m[2, lane], m[3, lane], b[2], b[3], b[4],
+                            b[5])
     copy_into(y, ys)
     copy_into(v, vs)
     for lane in range(lanes):
@@ -648,11 +667,12 @@ def strobe_periods(y, v, dt, p_a, drive, periods, strobe_y, strobe_v, span, fail
     lanes = y.shape[0]
     low = np.empty(lanes)
     high = np.empty(lanes)
+    y_start, v_start = np.empty(lanes), np.empty(lanes)
     for period in range(periods):
         copy_into(low, y)
         copy_into(high, y)
         for k in range(steps):
-            advance_step(y, v, dt, p_a, drive, k)
+            advance_step(y, v, dt, p_a, drive, k, y_start, v_start)
             for lane in range(lanes):
                 low[lane] = min(low[lane], y[lane])
                 high[lane] = max(high[lane], y[lane])

@@ -53,13 +53,15 @@ def advance_step(y, v, dt, p_a, drive, k, y_start, v_start):
     state before it is left in (y_start, v_start). The lanes go straight, in one vector
     loop; then the few near y = 0 are split at their switches (``settle_switches``)."""
     c0, ch, c1 = drive_at_step(drive, k)
+    near = 0
     for lane in range(y.shape[0]):
-        y_start[lane], v_start[lane] = y[lane], v[lane]
-        y[lane], v[lane] = rk4_step(
-            y_start[lane], v_start[lane], dt[lane], p_a[lane] * c0, p_a[lane] * ch,
-            p_a[lane] * c1
-        )
-    if SWITCHES:  # noqa: F821
+        ys, vs = y[lane], v[lane]
+        y_start[lane], v_start[lane] = ys, vs
+        y1, v1 = rk4_step(ys, vs, dt[lane], p_a[lane] * c0, p_a[lane] * ch, p_a[lane] * c1)
+        y[lane], v[lane] = y1, v1
+        if SWITCHES:  # noqa: F821 (a count, branch-free: the loop stays a vector loop)
+            near += near_switch(ys, vs, y1, v1, dt[lane])
+    if near:
         settle_switches(y, v, dt, p_a, drive, k, y_start, v_start)
 
 
@@ -339,9 +341,11 @@ def rk4_step_columns(y, v, dt, p_a, c0, ch, c1, dy, dv, dt_seed, p_a_seed, law=0
 # (its own law, extended past y = 0), and the step goes on from it with the other side's
 # law. The step grid per period stays (the phase lock): the drive at a fraction s of step
 # k is cos(pi (2k + 2s) / N), the table's own formula. The derivative of the step (the
-# columns) carries the saltation matrix at each switch: with f = (v, a) and the switch
-# at y = 0 crossed with velocity v*, S = I + (f_after - f_before) e_y^T / v*, which
-# adds (a_after - a_before) / v* times a column's dy to its dv.
+# columns) is that of the split step itself: each switch time moves with the columns
+# (it keeps y = 0 at the switch), and each sub-step's ends move with it
+# (``moving_ends_step``). In the limit of small steps this is the saltation matrix,
+# S = I + (f_after - f_before) e_y^T / v* with f = (v, a) and v* the velocity at the
+# switch; here it is exact for the map the kernels iterate.
 
 #: Laws a step may integrate with: the model's (piecewise), or one side's of y = 0.
 PIECEWISE, CONTACT, FLIGHT = 0, 1, 2
@@ -371,7 +375,7 @@ def acceleration_law(y, v, force, law):
 def near_switch(y0, v0, y1, v1, dt):
     """Whether a step from (y0, v0) to (y1, v1) may cross y = 0 (a cheap, sure test)."""
     reach = NEAR_SWITCH * dt * (abs(v0) + abs(v1)) + 0.1 * abs(y1 - y0)
-    return ((y0 > 0.0) != (y1 > 0.0)) or min(abs(y0), abs(y1)) < reach
+    return ((y0 > 0.0) != (y1 > 0.0)) | (min(abs(y0), abs(y1)) < reach)
 
 
 @numba.njit(cache=True, inline="always")
@@ -403,6 +407,72 @@ def side_step(y, v, dt, p_a, k, steps, start, end, law, dy, dv, dt_seed, p_a_see
 
 
 @numba.njit(cache=True)
+def forced_columns_step(y, v, h, f0, fh, f1, law, dy, dv, h_seed, q0, qh, q1):
+    """One RK4 step by ``law`` and its derivative along each column (in place), a column
+    seeded by the derivative of h (``h_seed``) and of the force at each stage (q0, qh,
+    q1): ``rk4_step_columns`` with stage-wise force seeds, for the sub-steps of a split
+    step, whose ends move with the switch."""
+    a1, y1_y, y1_v, y1_f = stage_partials(y, v, f0, law)
+    y2, v2 = y + 0.5 * h * v, v + 0.5 * h * a1
+    a2, y2_y, y2_v, y2_f = stage_partials(y2, v2, fh, law)
+    y3, v3 = y + 0.5 * h * v2, v + 0.5 * h * a2
+    a3, y3_y, y3_v, y3_f = stage_partials(y3, v3, fh, law)
+    y4, v4 = y + h * v3, v + h * a3
+    a4, y4_y, y4_v, y4_f = stage_partials(y4, v4, f1, law)
+    sum_v = v + 2.0 * v2 + 2.0 * v3 + v4
+    sum_a = a1 + 2.0 * a2 + 2.0 * a3 + a4
+    for col in range(dy.shape[0]):
+        e1, g1, t = dy[col], dv[col], h_seed[col]
+        da1 = y1_y * e1 + y1_v * g1 + y1_f * q0[col]
+        e2, g2 = e1 + 0.5 * h * g1 + 0.5 * t * v, g1 + 0.5 * h * da1 + 0.5 * t * a1
+        da2 = y2_y * e2 + y2_v * g2 + y2_f * qh[col]
+        e3, g3 = e1 + 0.5 * h * g2 + 0.5 * t * v2, g1 + 0.5 * h * da2 + 0.5 * t * a2
+        da3 = y3_y * e3 + y3_v * g3 + y3_f * qh[col]
+        e4, g4 = e1 + h * g3 + t * v3, g1 + h * da3 + t * a3
+        da4 = y4_y * e4 + y4_v * g4 + y4_f * q1[col]
+        dy[col] = e1 + h / 6.0 * (g1 + 2.0 * g2 + 2.0 * g3 + g4) + t / 6.0 * sum_v
+        dv[col] = g1 + h / 6.0 * (da1 + 2.0 * da2 + 2.0 * da3 + da4) + t / 6.0 * sum_a
+    return y + h / 6.0 * sum_v, v + h / 6.0 * sum_a
+
+
+@numba.njit(cache=True)
+def moving_ends_step(y, v, dt, p_a, k, steps, start, end, law, dy, dv, dt_seed, p_a_seed,
+                     moved, end_moves):
+    """RK4 from fraction ``start`` to ``end`` of step k by ``law`` with the columns' exact
+    derivative where the sub-step's ends are switches, which move with the columns: its
+    start by ``moved`` (per column, d start; zeros at the step's start), and, with
+    ``end_moves``, its end as far as keeps y = 0 there (``moved`` is then overwritten
+    with d end). The columns of the switch times: their h and force seeds."""
+    n = dy.shape[0]
+    share, mid = end - start, 0.5 * (start + end)
+    c0, ch, c1 = drive_at(k, start, steps), drive_at(k, mid, steps), drive_at(k, end, steps)
+    turn = -2.0 * math.pi / steps * p_a  # d force / d fraction = turn sin(phase)
+    s0 = math.sin(math.pi * (2.0 * k + 2.0 * start) / steps)
+    sh = math.sin(math.pi * (2.0 * k + 2.0 * mid) / steps)
+    s1 = math.sin(math.pi * (2.0 * k + 2.0 * end) / steps)
+    ey, ev, h_seed = np.zeros(n + 2), np.zeros(n + 2), np.empty(n + 2)
+    q0, qh, q1 = np.empty(n + 2), np.empty(n + 2), np.empty(n + 2)
+    for col in range(n):
+        ey[col], ev[col], h_seed[col] = dy[col], dv[col], dt_seed[col] * share
+        q0[col], qh[col], q1[col] = p_a_seed[col] * c0, \
+            p_a_seed[col] * ch, p_a_seed[col] * c1
+    # column n: by the start fraction; column n + 1: by the end fraction
+    h_seed[n], q0[n], qh[n], q1[n] = -dt, turn * s0, 0.5 * turn * sh, 0.0
+    h_seed[n + 1], q0[n + 1], qh[n + 1], q1[n + 1] = dt, 0.0, 0.5 * turn * sh, turn * s1
+    y1, v1 = forced_columns_step(y, v, dt * share, p_a * c0, p_a * ch, p_a * c1, law, ey, ev,
+                                 h_seed, q0, qh, q1)
+    for col in range(n):
+        dy[col] = ey[col] + ey[n] * moved[col]
+        dv[col] = ev[col] + ev[n] * moved[col]
+    if end_moves:
+        for col in range(n):
+            moved[col] = -dy[col] / ey[n + 1] if ey[n + 1] != 0.0 else 0.0
+            dy[col] += ey[n + 1] * moved[col]
+            dv[col] += ev[n + 1] * moved[col]
+    return y1, v1
+
+
+@numba.njit(cache=True)
 def first_crossing(y0, v0, y1, v1, h, contact):
     """The first fraction in (0, 1] of a step of length h where its cubic Hermite
     interpolant leaves the side it starts on (y > 0 in contact), or -1: the end if it
@@ -430,7 +500,9 @@ def first_crossing(y0, v0, y1, v1, h, contact):
 @numba.njit(cache=True)
 def locate_switch(y, v, dt, p_a, k, steps, start, end, law):
     """The fraction in (start, end] where RK4 by ``law`` from (y, v) at ``start`` reaches
-    y = 0 (the Illinois method; y's sign at ``end`` is across), and the state there."""
+    y = 0 (y's sign at ``end`` is across): Newton's method on the sub-step's end (dy/ds
+    = dt v there), kept inside the bracket, with the Illinois method where Newton would
+    leave it. Some three sub-steps."""
     side = 1.0 if law == CONTACT else -1.0
     none = np.empty(0)  # no columns
     lo, hi = start, end
@@ -438,12 +510,12 @@ def locate_switch(y, v, dt, p_a, k, steps, start, end, law):
     y_hi, v_hi = side_step(y, v, dt, p_a, k, steps, start, end, law, none, none, none, none)
     g_hi = side * y_hi
     kept = 0
-    mid = hi
+    mid = (lo * g_hi - hi * g_lo) / (g_hi - g_lo)  # the secant through the bracket's ends
     for _ in range(EVENT_ITERATIONS):
-        mid = (lo * g_hi - hi * g_lo) / (g_hi - g_lo)
         if not lo < mid < hi:
             mid = 0.5 * (lo + hi)
-        y_mid, _v = side_step(y, v, dt, p_a, k, steps, start, mid, law, none, none, none, none)
+        y_mid, v_mid = side_step(y, v, dt, p_a, k, steps, start, mid, law, none, none, none,
+                                 none)
         g_mid = side * y_mid
         if g_mid > 0.0:
             lo, g_lo = mid, g_mid
@@ -457,6 +529,11 @@ def locate_switch(y, v, dt, p_a, k, steps, start, end, law):
             kept = -1
         if g_mid == 0.0 or hi - lo < EVENT_RESOLUTION:
             break
+        slope = dt * v_mid
+        newton = mid - y_mid / slope if slope != 0.0 else -1.0
+        if abs(newton - mid) < EVENT_RESOLUTION and lo <= newton <= hi:
+            return newton
+        mid = newton if lo < newton < hi else (lo * g_hi - hi * g_lo) / (g_hi - g_lo)
     return mid
 
 
@@ -476,6 +553,7 @@ def event_step(y, v, dt, p_a, k, steps, y_end, v_end, dy, dv, dt_seed, p_a_seed,
     none = np.empty(0)  # no columns
     copy_into(dy, dy_start)
     copy_into(dv, dv_start)
+    moved = np.zeros(dy.shape[0])  # d(the sub-step's start) by each column
     start = 0.0
     for event in range(MAX_SWITCHES + 1):
         law = CONTACT if contact else FLIGHT
@@ -489,21 +567,16 @@ def event_step(y, v, dt, p_a, k, steps, y_end, v_end, dy, dv, dt_seed, p_a_seed,
                 across = 1.0 if (y1 > 0.0) != contact else -1.0
                 end = 1.0
         if across < 0.0:  # no switch left in the step
-            y1, v1 = side_step(y, v, dt, p_a, k, steps, start, 1.0, law, dy, dv, dt_seed,
-                               p_a_seed)
+            y1, v1 = moving_ends_step(y, v, dt, p_a, k, steps, start, 1.0, law, dy, dv,
+                                      dt_seed, p_a_seed, moved, False)
             return y1, v1, event
         if event == MAX_SWITCHES:
             break
         at = locate_switch(y, v, dt, p_a, k, steps, start, end, law)
-        _y, v_at = side_step(y, v, dt, p_a, k, steps, start, at, law, dy, dv, dt_seed,
-                             p_a_seed)
-        if v_at != 0.0:  # the saltation matrix
-            force = p_a * drive_at(k, at, steps)
-            after = FLIGHT if contact else CONTACT
-            jump = (acceleration_law(0.0, v_at, force, after)
-                    - acceleration_law(0.0, v_at, force, law)) / v_at
-            for col in range(dy.shape[0]):
-                dv[col] += jump * dy[col]
+        # The columns through the switch, whose time moves with them: at the switch, y's
+        # derivative is 0 and the rest is the saltation matrix's, to the step's last bit.
+        _y, v_at = moving_ends_step(y, v, dt, p_a, k, steps, start, at, law, dy, dv, dt_seed,
+                                    p_a_seed, moved, True)
         y, v, start, contact = 0.0, v_at, at, not contact
     return math.nan, math.nan, -1
 

@@ -9,8 +9,8 @@ locates each switch too (scipy's DOP853 with events, ``reference_last_period``):
 - where a law is not (m2 = 1.5: y^1.5; l = 0.5: sqrt(y) v), the law itself limits
   any fixed step near the switch, and the order measured is lower (stated below);
 - several switches within one step (a flight shorter than a step);
-- the monodromy matrix, with the saltation matrix at each switch, against finite
-  differences of the period map.
+- the monodromy matrix, the exact derivative of the split steps (each switch time
+  moving with the state), against finite differences of the period map.
 """
 
 import math
@@ -110,9 +110,9 @@ def test_several_switches_within_one_step():
 
 
 @pytest.mark.parametrize("m2, l", [(2.0, 1.0), (1.0, 0.0)])
-def test_the_monodromy_carries_the_saltation_matrix(m2, l):
+def test_the_monodromy_is_the_derivative_of_the_split_steps(m2, l):
     # The derivative of one period of the map, by the kernel (each step's derivative,
-    # the saltation matrix at each switch), against central differences of the map.
+    # each switch time moving with it), against central differences of the map.
     model = ContactModel(contact(m2, l))
     kernels = compiled_kernels(model)
     f_e, steps = 490.0, 512
@@ -130,13 +130,16 @@ def test_the_monodromy_carries_the_saltation_matrix(m2, l):
     scale = np.array([Y0, Y0 * 2 * np.pi * f_e])  # y, v
     numeric = np.empty((2, 2))
     for col in range(2):
-        h = 1e-7 * scale[col]
+        h = 1e-5 * scale[col]
         plus, _ = period(y + h * (col == 0), v + h * (col == 1))
         minus, _ = period(y - h * (col == 0), v - h * (col == 1))
         numeric[:, col] = (plus - minus) / (2 * h)
     relative = np.abs(monodromy - numeric) * scale[None, :] / scale[:, None]
-    assert relative.max() < 1e-5 * np.abs(monodromy * scale[None, :] / scale[:, None]).max(), (
-        monodromy, numeric)
+    size = np.abs(monodromy * scale[None, :] / scale[:, None]).max()
+    # Measured 1.4e-8 (the paper's contact) and 4.4e-10 (spring-dashpot), the central
+    # differences' own error; the saltation matrix of the flow in place of the split
+    # step's derivative was 1.5e-6 off at 32 steps (tests/test_steady.py holds 1e-6).
+    assert relative.max() < 1e-7 * size, (monodromy, numeric)
 
 
 def test_a_lane_with_more_switches_in_a_step_than_the_limit_fails_and_says_why():

@@ -132,8 +132,14 @@ def test_under_resolved_impacts_are_solved_again_with_finer_steps(weight):
     assert all(refined.settled) and set(refined.period) == {1}
     assert max(refined.steps_used) > 128
     assert abs(refined.app_m[-2] / 21.07e-6 - 1) < 5e-3  # 255 Hz
+    # At 128 steps alone, with each switch located within its step, the orbit is period
+    # 1 too, App within 5e-4 of the refined one (measured), and it says it is
+    # under-resolved (its estimate takes RK4 as second order); without the events it
+    # looked period-4 or never settled.
     coarse = sweep(grid, [0.40], direction="down", refinements=0).runs[0]
-    assert not all(coarse.settled[-3:]) and 4 in coarse.period[-3:]
+    assert (coarse.status[-3:] == 2).all()  # under-resolved
+    assert (coarse.period[-3:] == 1).all()
+    assert np.max(np.abs(coarse.app_m[-3:] / refined.app_m[-3:] - 1)) < 1e-3
 
 
 @pytest.mark.parametrize(

@@ -82,7 +82,7 @@ def test_small_job_matches_the_python_sweep():
     # At most _CHUNK periods: a lane still moving then is not settled (a longer cap lets
     # it try Newton from there).
     ({"max_periods": 16, "steps_per_period": 64, "refinements": 1}, Status.NOT_SETTLED),
-    ({"app_rtol": 1e-7}, Status.UNDER_RESOLVED),
+    ({"app_rtol": 1e-10}, Status.UNDER_RESOLVED),
     ({"app_rtol": None}, Status.SUCCESS),
 ])
 def test_settings_match_the_python_sweep(settings, status):

@@ -98,8 +98,8 @@ RUNS = {
                                     "--fmin", "1000", "--fmax", "1005"], 4, MAX_STEPS),
     "backbone --points": (lambda n: [*_NUMERICS, "backbone", "--points", n], 1, MAX_POINTS),
     "derive --order": (lambda n: [*_PERTURB, "derive", "--order", n], 0, 24),
-    "response --order": (lambda n: [*_PERTURB, "response", "--order", n, "--points", "3"],
-                         0, 24),
+    "response --order": (lambda n: [*_PERTURB, "response", "--order", n, "--points", "3",
+                                    "--pa-frac", "0.05"], 0, 24),
 }
 #: Seconds a command may work before it is stopped (its memory measured until then).
 WINDOW_S = 6.0

@@ -59,10 +59,12 @@ from ._sweep import ENGINES
 __all__ = ["Bifurcation", "Continuation", "ContinuedBranch", "continue_orbits", "DEFAULTS"]
 
 DEFAULTS = {"steps_per_period": "auto", "ds_max": 0.02, "max_angle": 0.1, "max_points": 20_000}
-#: The most points a walk may keep: some 730 bytes each while walking (measured by
-#: tests/test_continuation.py), so a walk at the limit holds under 0.5 GB; at the default
-#: steps the paper's branch walks some 6,000 points a second.
-MAX_WALK_POINTS = 500_000
+#: The most points a walk may keep: some 830 bytes each, the result's included (measured
+#: on the paper's branch at 0.15 Q by tests/test_continuation.py), so a walk at the limit
+#: holds some 0.2 GB, and the few walks of one command (two step counts, the branches
+#: switched to, a fold curve's two directions) stay well under 2 GiB; at the default steps
+#: the paper's branch walks some 6,000 points a second.
+MAX_WALK_POINTS = 250_000
 #: The least N of "auto": the map's corners (a step's stage crossing y = 0) grow with the
 #: step; at 0.15 Q, N = 128 shows zigzags of f by 0.27 Hz on the bouncing middle branch
 #: (taken for folds) and stops at 398 Hz, N = 512 none and reaches 355 Hz (352.55 Hz with
@@ -376,7 +378,7 @@ def continue_orbits(
     max_points : int
         A walk gives up after this many points; the folds located once it has ended
         are added to them (one per fold reported). At most ``MAX_WALK_POINTS``
-        (500,000: under 0.5 GB a walk).
+        (250,000: some 0.2 GB a walk).
     quiet : bool
         No progress bar on stderr.
     engine : {"auto", "compiled", "python"}
@@ -447,7 +449,7 @@ def check_walk(period, ds_max, max_angle, max_points) -> tuple[float, float, int
         raise ValueError(f"`period` must be one of {PERIODS_TRIED}, got {period!r}.")
     return (check_positive("ds_max", ds_max), check_positive("max_angle", max_angle),
             check_int("max_points", max_points, minimum=2, maximum=MAX_WALK_POINTS,
-                      why="some 730 bytes a point, under 0.5 GB a walk"))
+                      why="some 830 bytes a point, 0.2 GB a walk"))
 
 
 def branch_steps(steps_per_period, f_hz: float, numbers) -> int:
@@ -776,6 +778,10 @@ class _Walk:
             shoot.drive, shoot.force_is_parameter, shoot.other, self.settings, z, t, jac,
             mono, iterations)
         self.resume = None if state[1] < 0.0 else float(state[1])
+        # The rows walked, copied out of the chunk: a point kept as a view would keep the
+        # whole chunk's buffers alive (some 1.5 kB a point more).
+        n = min(kept + 1, rows)
+        z, t, jac, mono = z[:n].copy(), t[:n].copy(), jac[:n].copy(), mono[:n].copy()
         for i in range(kept):
             self._keep(Point(z[i], jac[i], mono[i], int(iterations[i])), t[i])
         if kept:

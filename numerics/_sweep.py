@@ -74,7 +74,7 @@ class SweepRun(Orbits):
         ``ratio``."""
         if self.jumped is not None:
             return np.flatnonzero(self.jumped).tolist()
-        return _candidates(self.app_m, ratio).tolist()
+        return [int(i) for i in _candidates(self.app_m, ratio) if _above_round_off(self, i)]
 
     def summary(self) -> str:
         return (f"SweepRun: P_a = {self.pa_frac:g} Q {self.direction}, {self.status.size} "
@@ -116,10 +116,10 @@ class Sweep(Result):
 
 
 def _short(value: float, decimals: int, width: int = 0) -> str:
-    """``value`` with ``decimals`` decimals, or with three significant digits where
-    those would print a nonzero value as zero; right-aligned in ``width``."""
+    """``value`` with ``decimals`` decimals where that prints it to three significant
+    digits or exactly, else in three significant digits; right-aligned in ``width``."""
     text = f"{value:.{decimals}f}"
-    if value != 0 and float(text) == 0:
+    if float(text) != value and (value == 0 or abs(value) < 10 ** (2 - decimals)):
         text = f"{value:.3g}"
     return text.rjust(width)
 
@@ -221,14 +221,22 @@ def _candidates(app: np.ndarray, ratio: float = JUMP_RATIO) -> np.ndarray:
     return np.flatnonzero(change > ratio) + 1
 
 
+def _above_round_off(run: SweepRun, i: int) -> bool:
+    """Whether both orbits' App at points i-1 and i lie above the round-off of y
+    (``ROUND_OFF_APP``)."""
+    pair = slice(i - 1, i + 1)
+    scale = np.maximum(np.abs(run.ymin_m[pair]), np.abs(run.ymax_m[pair]))
+    return bool((run.app_m[pair] > ROUND_OFF_APP * scale).all())
+
+
 def _beyond_errors(run: SweepRun, i: int) -> bool:
     """Whether App changes from point i-1 to i by more than the two orbits' estimated
     errors (``error_estimate``, relative; none known counts as none), both orbits' App
-    above the round-off of y (``ROUND_OFF_APP``)."""
-    pair = slice(i - 1, i + 1)
-    scale = np.maximum(np.abs(run.ymin_m[pair]), np.abs(run.ymax_m[pair]))
-    if not (run.app_m[pair] > ROUND_OFF_APP * scale).all():
+    above the round-off of y. (A change within the estimates between two under-resolved
+    orbits is not checked: the orbits are not known well enough to tell a jump.)"""
+    if not _above_round_off(run, i):
         return False
+    pair = slice(i - 1, i + 1)
     error = np.nan_to_num(run.error_estimate[pair] * run.app_m[pair])
     return bool(abs(run.app_m[i] - run.app_m[i - 1]) > error.sum())
 

@@ -1,5 +1,9 @@
 """`python -m paper_checks [--quick] [--out DIR]`: check the paper's claims, redraw its
-figures, and write DIR/report.md and DIR/report.json (DIR is out/ by default)."""
+figures, and write DIR/report.md and DIR/report.json (DIR is out/ by default).
+
+Exit status: 0 when every claim holds; 1 when a claim fails (each failure printed) or
+the run fails (one line that says why; the traceback in a log file it names, when the
+failure is the toolkit's own); 2 for bad options."""
 
 from __future__ import annotations
 
@@ -59,6 +63,13 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
+    try:
+        return _check(args)
+    except ValueError as error:  # past the options, no input of the user's is at fault
+        raise RuntimeError(str(error)) from error
+
+
+def _check(args: argparse.Namespace) -> int:
     out = Path(args.out)  # checked (and created) by its type, before any work
     from ._report import write_report  # the checks, the scenes and what they import
 

@@ -169,7 +169,8 @@ def _parser() -> argparse.ArgumentParser:
                          default=None if sub is derive_cmd else "consistent",
                          help="consistent: every term k_j u^j, d_j u^j u' of the contact's "
                          "equation up to the order (the default"
-                         + ("; derive --steps prints Eq. 2.6's derivation unless asked"
+                         + ("; derive --steps prints Eq. 2.6's derivation unless given "
+                            "--truncation consistent"
                             if sub is derive_cmd else "") + "); paper: Eq. 2.6")
         add_allow_slow(sub)
         # SUPPRESS: a --quiet given before the command is not reset here.

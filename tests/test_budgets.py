@@ -26,6 +26,7 @@ from numerics._steady import MAX_STEPS
 from numerics._sweep import MAX_STATES
 from numerics.cli._steady import MAX_STEADY_STEPS
 from perturb.__main__ import _parser as perturb_parser
+from perturb._slow_orders import SLOW_ORDERS
 from tests._peak_memory import BUDGET_BYTES, peak_memory
 
 SIZES = st.integers(1, 10**12)
@@ -83,8 +84,9 @@ def test_an_order_past_its_limit_is_refused_before_any_work(order, command):
             check_slow_order(args.order, argv[0], "paper", allow_slow=args.allow_slow)
 
 
-#: Sizes spread over the orders of magnitude, 1 to 10^12.
-SPREAD = st.integers(0, 11).flatmap(lambda e: st.integers(10**e, 10**(e + 1)))
+#: Sizes spread over the orders of magnitude, 0 to 10^12.
+SPREAD = st.one_of(st.just(0), st.integers(0, 11).flatmap(
+    lambda e: st.integers(10**e, 10**(e + 1))))
 _NUMERICS, _PERTURB = [sys.executable, "-m", "numerics"], [sys.executable, "-m", "perturb"]
 #: (the command with the size in it, least, limit): cheap commands apart from the size.
 RUNS = {
@@ -97,11 +99,15 @@ RUNS = {
     "continue --steps": (lambda n: [*_NUMERICS, "continue", "--steps", n, "--pa-frac", "0.05",
                                     "--fmin", "1000", "--fmax", "1005"], 4, MAX_STEPS),
     "backbone --points": (lambda n: [*_NUMERICS, "backbone", "--points", n], 1, MAX_POINTS),
-    "derive --order": (lambda n: [*_PERTURB, "derive", "--order", n], 0, 24),
+    "derive --order": (lambda n: [*_PERTURB, "derive", "--order", n], 0,
+                       SLOW_ORDERS["derive", "polynomial law"][0]),
     "response --order": (lambda n: [*_PERTURB, "response", "--order", n, "--points", "3",
-                                    "--pa-frac", "0.05"], 0, 24),
+                                    "--pa-frac", "0.05"], 0,
+                         SLOW_ORDERS["response", "polynomial law"][0]),
 }
-#: Seconds a command may work before it is stopped (its memory measured until then).
+#: Seconds a command may work before it is stopped: its memory is measured until then
+#: (the arrays that an option sizes are allocated first); the peak of each limit run to
+#: its end is bench_limits'.
 WINDOW_S = 6.0
 
 

@@ -319,6 +319,8 @@ def test_a_scene_past_the_ranges_is_refused_unless_unchecked(tmp_path):
     (OSError(errno.ENOSPC, "No space left on device", "out/report.json"), 1,
      "error: No space left on device: 'out/report.json'"),
     (RuntimeError("a fault of its own"), 1, "internal error (RuntimeError('a fault of its own'))"),
+    # A ValueError deep in the checks names no option of the user's: internal, logged.
+    (ValueError("`order` must be >= 0, got -1."), 1, "internal error (RuntimeError("),
 ])
 def test_paper_checks_says_a_failure_in_one_line(tmp_path, monkeypatch, capsys, error, code,
                                                  said):
@@ -332,3 +334,7 @@ def test_paper_checks_says_a_failure_in_one_line(tmp_path, monkeypatch, capsys, 
     assert main(["--quick", "--out", str(tmp_path / "out")]) == code
     err = capsys.readouterr().err
     assert said in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    if "internal error" in err:  # the log it names holds the traceback
+        log = Path(err.rsplit("the traceback is in ", 1)[1].strip())
+        assert "Traceback" in log.read_text()
+        log.unlink()

@@ -35,19 +35,21 @@ def test_the_fig2_and_3_job_writes_quickly_and_reloads_identical(tmp_path):
     path = tmp_path / "job.json"
 
     def seconds(call) -> float:
-        times = []
-        for _ in range(3):
-            start = time.perf_counter()
-            call()
-            times.append(time.perf_counter() - start)
-        return statistics.median(times)
+        start = time.perf_counter()
+        call()
+        return time.perf_counter() - start
 
-    ours = seconds(lambda: job.to_json(path))
-    indented = seconds(lambda: json.dumps(job.as_dict(), indent=1, allow_nan=False))
-    # A ratio, so that a loaded machine does not decide: measured 0.27 s against 0.43 s
-    # (0.62x) at a load of 2; the writer before took longer than the indented text alone
-    # (it walked the plain lists a second time). make bench holds the goal of 0.3 s.
-    assert ours <= 0.8 * indented, (ours, indented)
+    # A ratio, so that a loaded machine does not decide: the median of 7 interleaved
+    # pairs' ratios (a load that changes between the two is in both sides of each pair),
+    # the text alone on both sides (a file's write waits on its disk: 0.5x to 1.9x in one
+    # run). Measured medians 0.48 to 0.58; the writer before took longer than the indented
+    # text (it walked the plain lists a second time). make bench holds the goal of 0.3 s
+    # for the file.
+    ratios = [seconds(lambda: dumps(job))
+              / seconds(lambda: json.dumps(job.as_dict(), indent=1, allow_nan=False))
+              for _ in range(7)]
+    assert statistics.median(ratios) <= 0.8, ratios
+    job.to_json(path)
     again = tmp_path / "again.json"
     write_json(again, load(path))
     assert again.read_text() == path.read_text()

@@ -177,8 +177,8 @@ def test_a_sweep_past_the_checked_steps_says_it_was_not_checked(monkeypatch):
 
 
 def test_app_at_the_round_off_of_y_is_under_resolved_and_never_a_jump():
-    # At 1e-14 Q App is some 1e-20 m, a few hundred units in the last place of y (some
-    # 5e-8 m): every point is under-resolved, and its noise from point to point is no
+    # At 1e-14 Q App is some 1e-20 m, a few hundred units in the last place of y (about
+    # y0, 2.25e-7 m): every point is under-resolved, and its noise from point to point is no
     # jump. At 1e-9 and 1e-8 Q the response is linear: App scales with P_a to 1e-6.
     result = sweep([1000.0, 1200.0, 1400.0], [1e-14, 1e-9, 1e-8], direction="up", quiet=True)
     noise, small, larger = result.runs

@@ -40,14 +40,14 @@ MAX_STEADY_STEPS = MAX_STEPS // 2 ** DEFAULTS["refinements"]
 def _steady_steps(text: str) -> int | str:
     """--steps of sweep and attractors: "auto" or an integer from 4 to MAX_STEADY_STEPS."""
     return "auto" if text == "auto" else int_at_least(
-        4, MAX_STEADY_STEPS, f"its {DEFAULTS['refinements']} refinements double it, up to "
-        f"the steps bound of every command, 2^20")(text)
+        4, MAX_STEADY_STEPS, f"each of its {DEFAULTS['refinements']} refinements doubles it, "
+        f"up to the steps bound of every command, 2^20")(text)
 
 
 def _accuracy_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--steps", type=_steady_steps, default=DEFAULTS["steps_per_period"],
-                        help="RK4 steps per period, an integer >= 4 or 'auto' (at least 128, "
-                        "more at low f_e; the default)")
+                        help=f"RK4 steps per period, an integer from 4 to {MAX_STEADY_STEPS} "
+                        "or 'auto' (at least 128, more at low f_e; the default)")
     parser.add_argument("--tol", type=positive_float, default=DEFAULTS["tol"],
                         help="relative settling tolerance (default %(default)s)")
     parser.add_argument("--json", metavar="FILE", type=output_file,

@@ -12,6 +12,7 @@ import tempfile
 from pathlib import Path
 
 from numerics._atlas import MAX_LANES
+from numerics._attractors import DEFAULT_GRID
 from numerics._backbone import MAX_POINTS
 from numerics._continuation import MAX_WALK_POINTS
 from numerics._steady import MAX_STEPS
@@ -43,7 +44,8 @@ def cases(folder: Path) -> list[tuple[str, list[str]]]:
     scene = folder / "taylor.toml"
     scene.write_text(_TAYLOR_SCENE)
     amplitudes = [f"{0.001 * (k + 1):g}" for k in range(500)]
-    side = int((MAX_LANES / 98) ** 0.5)  # 98: the atlas's initial states per cell
+    states = len(DEFAULT_GRID["y_over_y0"]) * len(DEFAULT_GRID["v_over_omega0_y0"])  # a cell's
+    side = int((MAX_LANES / states) ** 0.5)
     return [
         (f"sweep --steps {MAX_STEADY_STEPS}", [*_NUMERICS, "sweep", "--steps",
                                                str(MAX_STEADY_STEPS),
@@ -60,7 +62,7 @@ def cases(folder: Path) -> list[tuple[str, list[str]]]:
                                            str(MAX_STEPS), "--quiet"]),
         (f"backbone --points {MAX_POINTS}", [*_NUMERICS, "backbone", "--points",
                                               str(MAX_POINTS), "--quiet"]),
-        (f"atlas {side} x {side} cells ({side * side * 98} lanes), 1 worker",
+        (f"atlas {side} x {side} cells ({side * side * states} lanes), 1 worker",
          [*_NUMERICS, "atlas", "--grid", str(side), str(side), "--workers", "1", "--quiet"]),
         *_orders(),
         (f"scene, Taylor spring of degree {MAX_TAYLOR_DEGREE}",

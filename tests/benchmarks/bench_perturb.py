@@ -4,7 +4,7 @@ Baselines, in the same run:
 - backbone: the same Lindstedt-Poincare recursion done with general sympy
   expressions (product-to-sum by ``TR8``, coefficients by ``coeff``, the
   square root by ``series``); its coefficients must equal ours exactly.
-  Quoted from issue 4 (not run here): the sympy multiple-scales package
+  Quoted, measured elsewhere (not run here): the sympy multiple-scales package
   ``oscilate`` takes about 34 s for order 8 and the Lindstedt package
   ``asymptotics`` about 37 s for order 16 on this machine.
 - forced derivation of order 4: the first (cold) call against the cached one,
@@ -103,7 +103,7 @@ def bench_backbone() -> None:
             "s",
             higher_is_better=False,
         )
-    print("quoted (issue 4, not run): oscilate order 8 ~34 s; asymptotics order 16 ~37 s")
+    print("quoted, measured elsewhere, not run: oscilate order 8 ~34 s; asymptotics order 16 ~37 s")
 
 
 def _derive_everything(order: int) -> None:

@@ -92,53 +92,34 @@ def test_every_stable_sweep_state_at_005q_lies_on_a_stable_branch(band_005):
 
 def test_the_015q_branch_passes_the_bouncing_fold_and_holds_every_stable_sweep_state(
         monkeypatch):
-    # At 512 steps the walk up (through the fold at 1332.8 Hz, back along the middle
-    # branch of bouncing orbits) stops at a corner of the piecewise smooth map near the
-    # bouncing fold (354.00 Hz); "auto" walks again at 1024 steps, where the branch is
-    # whole: one branch, the bouncing fold at 352.4 Hz. The walk down at 512 steps (it
-    # would stop at 366.7 Hz) is not made.
+    # At 512 steps, each contact switch located within its step, the walk up goes through
+    # the fold at 1332.8 Hz, back along the middle branch of bouncing orbits, and through
+    # the bouncing fold at 352.4 Hz: one branch, no walk again at 1024 steps (without the
+    # events the 512-step walk stopped at a corner of the piecewise smooth map, and
+    # "auto" walked again at 1024 steps).
     # The 5 Hz sweep down (at its own, coarser N) jumps off that branch at 355 Hz: the
-    # fold within one grid step of the jump (measured 2.6 Hz). Every settled sweep state
-    # lies on a stable continued branch (measured: 0.153 % at most, as before the steps
-    # past ds_max on the bouncing arcs; the sweep's App tolerance is 0.5 %).
+    # fold within one grid step of the jump. Every settled sweep state lies on a stable
+    # continued branch (the sweep's App tolerance is 0.5 %).
     from numerics import _continuation
 
     made, band_walk = [], _continuation._band_walk
     monkeypatch.setattr(_continuation, "_band_walk", lambda shoot, *args: made.append(
         (shoot.steps, args[-1])) or band_walk(shoot, *args))
     run = continue_orbits(0.15, 250.0, 1800.0)
-    assert run.settings["steps_per_period"] == 1024
-    assert made == [(512, 1), (1024, 1)]
+    assert run.settings["steps_per_period"] == 512
+    assert made == [(512, 1)]
     (branch,) = run.branches
     assert branch.status == Status.SUCCESS
     assert [round(b.frequency_hz) for b in run.folds()] == [1333, 352]
-    # Both folds are located by Brent's method. The primary fold is stated to its xtol,
-    # LOCATE_TOL in z: 1e-8 f_n0 (1.4856e-5 Hz; measured within 7.6e-9 of it, relative:
-    # it is taken as the difference of two f_e near 1333 Hz, each rounded to 2.3e-13 Hz).
-    # About the bouncing fold the map's corners make f zigzag (55 turns within
-    # 352.36-353.98 Hz, measured 2026-11-24): it is stated to the resolution that tells
-    # folds apart, _FOLD_PROMINENCE in z (0.1486 Hz).
-    from numerics._continuation import _FOLD_PROMINENCE, LOCATE_TOL
+    # Both folds are located by Brent's method to its xtol, LOCATE_TOL in z: 1e-8 f_n0
+    # (1.4856e-5 Hz); the bouncing one's frequency on the maps of 512 and 2048 steps:
+    # tests/test_events.py.
+    from numerics._continuation import LOCATE_TOL
 
     f_n0 = eq26_numbers().f_n0_hz
     assert [b.located for b in run.folds()] == [True, True]
-    primary, bouncing = run.folds()
-    assert primary.frequency_tol_hz == pytest.approx(LOCATE_TOL * f_n0, rel=5e-8)
-    assert bouncing.frequency_tol_hz == pytest.approx(_FOLD_PROMINENCE * f_n0, rel=5e-8)
-    # Route 2, the same N-step map walked with other steps (corners accepted only below
-    # ds = 1e-4, a step whose tangent turns too far halved, not shortened by the turn's
-    # share, no step past ds_max): its bouncing fold, marked, not located, lies 0.092 Hz
-    # away (measured), within the tolerance; Brent's 1.5e-5 Hz would have been false.
-    # (With steps past ds_max on the bouncing arcs, route 2 lands on route 1's fold.)
-    with pytest.MonkeyPatch.context() as patched:
-        patched.setattr(_continuation, "_CORNER_DS", 1e-4)
-        patched.setattr(_continuation, "_TURN_SHARE", np.inf)
-        patched.setattr(_continuation, "_SIZE_CEILING", 1.0)
-        patched.setattr(_continuation, "_CORNER_CEILING", 1.0)
-        patched.setattr(_continuation, "_CORNER_SHRINK", _continuation._SHRINK)
-        other = continue_orbits(0.15, 250.0, 1800.0).folds()
-    assert [round(b.frequency_hz) for b in other] == [1333, 352]
-    assert 0.05 < abs(other[1].frequency_hz - bouncing.frequency_hz) <= bouncing.frequency_tol_hz
+    assert all(b.frequency_tol_hz == pytest.approx(LOCATE_TOL * f_n0, rel=5e-8)
+               for b in run.folds())
     runs = sweep(np.arange(250.0, 1800.5, 5.0), 0.15)
     down = runs.run(0.15, "down")
     jumps = [float(down.frequency_hz[j]) for j in down.jumps()]
@@ -798,12 +779,13 @@ def test_continued_in_force_the_period_doubling_is_where_continuation_in_f_has_i
 
 def test_folds_are_located_once_the_walk_knows_which_turns_are_folds():
     # _locate_folds locates only the folds near a turn of f that _significant_folds keeps
-    # (at 0.15 Q, N = 1024, 2 of the 66 met: the rest are turns of the zigzag about the
-    # bouncing fold). Route 2, every fold met located (the route before): the same
-    # bifurcations to the last bit, and the same points in the same order but the 61
-    # (measured; 65 before ``corner_step``) that those extra locations kept. Each fold
-    # located is where f turns: a point inserted one place off would not be an extreme
-    # of f.
+    # (without the contact switches located within the step, at 0.15 Q, N = 1024, 2 of
+    # the 66 met: the rest were turns of a zigzag about the bouncing fold, made by the
+    # map's corners; with them, at N = 512, the walk meets the 2 folds alone). Route 2,
+    # every fold met located (the route before): the same bifurcations to the last bit,
+    # and the same points in the same order but those that extra locations kept (none
+    # now; 61 with the zigzag). Each fold located is where f turns: a point inserted one
+    # place off would not be an extreme of f.
     from numerics import _continuation
 
     run = continue_orbits(0.15, 250.0, 1800.0)
@@ -815,7 +797,7 @@ def test_folds_are_located_once_the_walk_knows_which_turns_are_folds():
     kept = np.isin(theirs.frequency_hz, ours.frequency_hz)
     assert np.array_equal(theirs.frequency_hz[kept], ours.frequency_hz)
     assert np.array_equal(theirs.app_m[kept], ours.app_m)
-    assert (~kept).sum() == 61
+    assert kept.all()
     f = ours.frequency_hz
     for fold in run.folds():
         (i,) = np.flatnonzero(f == fold.frequency_hz)

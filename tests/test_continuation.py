@@ -511,7 +511,7 @@ def doubling_125():
 
 
 def test_the_switched_branch_is_the_period_2_orbit_that_marching_reaches(doubling_125):
-    # Issue 13, item 2: a branch can be switched onto the period-doubled branch. It starts
+    # A branch can be switched onto the period-doubled branch. It starts
     # at the doubling, and each of its stable orbits, perturbed by 1 % of App, is where a
     # march at the same steps returns to (two routes: shooting and time marching).
     from numerics import steady_states, switch_branch
@@ -523,7 +523,9 @@ def test_the_switched_branch_is_the_period_2_orbit_that_marching_reaches(doublin
     assert abs(branch.frequency_hz[0] - doubling.frequency_hz) < 1e-3  # measured: 2e-4 Hz
     assert branch.frequency_hz.min() == 1500.0  # walked down to the band's end
     # (Nearer the doubling a multiplier nears 1 and marching takes longer than its cap.)
-    check = np.flatnonzero(branch.stable & (branch.frequency_hz < 1555.0))[::4]
+    # (Every second point: with the contact switches located within the step the walk
+    # takes longer steps, and every fourth gave 4.)
+    check = np.flatnonzero(branch.stable & (branch.frequency_hz < 1555.0))[::2]
     assert check.size >= 5
     nudge = 0.01 * branch.app_m[check]
     marched = steady_states(branch.frequency_hz[check], 1.25 * PAPER.Q_n, method="march",
@@ -609,8 +611,8 @@ def test_continuation_in_force_refuses_bad_input():
 
 
 def test_a_period_2_start_from_rest_continues_the_orbit_born_at_the_doubling(doubling_125):
-    # Issue 13: a period-p start (period=2) from rest, where a period-2 branch exists. At
-    # 1.25 Q, below the doubling at 1557.16 Hz, the period-2 orbit coexists with a
+    # A period-p start (period=2) from rest, where a period-2 branch exists. At
+    # 1.25 Q, below the doubling (1556.68 Hz at 512 steps), the period-2 orbit coexists with a
     # period-4 one (App 2.4 um at 1500 Hz): from rest, a march at the branch's N reaches
     # the period-4 orbit at 1500 Hz and the period-2 one at 1550 Hz. So the walk up has no
     # start, which its (empty) branch says, and the walk down from 1550 Hz covers the
@@ -634,14 +636,17 @@ def test_a_period_2_start_from_rest_continues_the_orbit_born_at_the_doubling(dou
     assert abs(branch.app_m[here] / switched.app_m[there] - 1) < 1e-9
     assert np.allclose(np.sort_complex(branch.multipliers[here]),
                        np.sort_complex(switched.multipliers[there]), rtol=0, atol=1e-9)
-    # The start of one is the other's after one excitation period (the same orbit, the
-    # other of its two phases): measured 9e-15 (y) and 9e-14 (v), relative; allowance as
-    # above.
+    # The start of one is the other's, or the other's after one excitation period (the
+    # same orbit, either of its two phases: which one a walk holds depends on where it
+    # began); allowance as above.
     one_period = simulate(1500.0, 1.25 * PAPER.Q_n, periods=1, record=("final",),
                           steps_per_period=run.settings["steps_per_period"],
                           y_init_m=branch.y_start_m[here], v_init_m_s=branch.v_start_m_s[here])
-    assert abs(one_period.y_final_m[0] / switched.y_start_m[there] - 1) < 1e-9
-    assert abs(one_period.v_final_m_s[0] / switched.v_start_m_s[there] - 1) < 1e-9
+    phases = ((branch.y_start_m[here], branch.v_start_m_s[here]),
+              (one_period.y_final_m[0], one_period.v_final_m_s[0]))
+    gap = [max(abs(y / switched.y_start_m[there] - 1), abs(v / switched.v_start_m_s[there] - 1))
+           for y, v in phases]
+    assert min(gap) < 1e-9, gap  # measured 1.8e-14
     # Above the doubling there is no period-2 orbit: both walks say so, nothing is made up.
     above = continue_orbits(1.25, 1560.0, 1600.0, period=2)
     assert [b.frequency_hz.size for b in above.branches] == [0, 0]

@@ -72,27 +72,22 @@ def test_an_explicit_step_count_is_kept():
 
 def test_steps_in_f_alone_never_turn_a_walk_back_onto_its_own_points(monkeypatch):
     # Regression: at 0.17 Q a step in f alone landed on a point the walk had passed (where
-    # f zigzags over corners) and the walk retraced its branch up to 1800 Hz, with two
-    # "folds" where it turned round. Now "auto" ends at 2048 steps with the walks 5.9 Hz
-    # apart (263.66 and 269.60 Hz; 263.77 and 271.25 Hz before the corner's step grew
-    # with the orbit's size, ``corner_step``; 263.77 and 269.60 Hz before the steps past
-    # ds_max and the compiled corrections; 264.74 and 269.60 Hz before the walk's
-    # contraction test); the bouncing fold (263.29 Hz, +-0.15 Hz: marked within a step, as
-    # Brent's method could not correct between its points; located at 263.27 Hz before
-    # ``corner_step``) is the walk up's.
+    # f zigzagged over the map's corners) and the walk retraced its branch up to 1800 Hz,
+    # with two "folds" where it turned round. With each contact switch located within its
+    # step the map has no corners: "auto" walks once, at 512 steps, over the whole band
+    # (1,211 points), through both folds, each located (the bouncing one at 263.28 Hz;
+    # without the events it took walks at 512, 1024 and 2048 steps, and the bouncing fold
+    # was only marked, 263.29 Hz +-0.15 Hz). No point is walked twice.
     from numerics import _continuation as c
 
     made, band_walk = [], c._band_walk
     monkeypatch.setattr(c, "_band_walk", lambda shoot, *args: made.append(
         (shoot.steps, args[-1])) or band_walk(shoot, *args))
     run = continue_orbits(0.17, 250.0, 1800.0)
-    assert run.settings["steps_per_period"] == 2048
-    # The walks up at 512 and 1024 steps stop at corners, and are walked again at twice
-    # the steps at once. The branches at 2048 steps span the band's whole range (the walk
-    # up turns back at 1318 Hz), so no coarser N could cover more: its walk down is not
-    # made (it was, before "auto" made it only when needed: six walks).
-    assert made == [(512, 1), (1024, 1), (2048, 1), (2048, -1)]
+    assert run.settings["steps_per_period"] == 512
+    assert made == [(512, 1)]
     assert [round(b.frequency_hz) for b in run.folds()] == [1318, 263]
+    assert all(b.located for b in run.folds())
     for branch in run.branches:
         states = np.c_[branch.y_start_m / np.abs(branch.y_start_m).max(),
                        branch.v_start_m_s / np.abs(branch.v_start_m_s).max(),

@@ -74,7 +74,7 @@ def switch_branch(run: Continuation, bifurcation: Bifurcation, *, quiet: bool = 
     >>> doubled = switch_branch(run, run.bifurcations[0])
     >>> branch = doubled.branches[0]
     >>> branch.period, round(float(branch.frequency_hz[0]), 2), float(branch.frequency_hz[-1])
-    (2, 1557.16, 1500.0)
+    (2, 1556.68, 1500.0)
     """
     if not isinstance(run, Continuation):
         raise ValueError(f"`run` must be a Continuation, got {type(run).__name__}.")

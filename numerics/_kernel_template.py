@@ -56,10 +56,10 @@ def advance_step(y, v, dt, p_a, drive, k, y_start, v_start):
     near = 0
     for lane in range(y.shape[0]):
         ys, vs = y[lane], v[lane]
-        y_start[lane], v_start[lane] = ys, vs
         y1, v1 = rk4_step(ys, vs, dt[lane], p_a[lane] * c0, p_a[lane] * ch, p_a[lane] * c1)
         y[lane], v[lane] = y1, v1
         if SWITCHES:  # noqa: F821 (a count, branch-free: the loop stays a vector loop)
+            y_start[lane], v_start[lane] = ys, vs
             near += near_switch(ys, vs, y1, v1, dt[lane])
     if near:
         settle_switches(y, v, dt, p_a, drive, k, y_start, v_start)
@@ -374,8 +374,10 @@ def acceleration_law(y, v, force, law):
 @numba.njit(cache=True, inline="always")
 def near_switch(y0, v0, y1, v1, dt):
     """Whether a step from (y0, v0) to (y1, v1) may cross y = 0 (a cheap, sure test)."""
-    reach = NEAR_SWITCH * dt * (abs(v0) + abs(v1)) + 0.1 * abs(y1 - y0)
-    return ((y0 > 0.0) != (y1 > 0.0)) | (min(abs(y0), abs(y1)) < reach)
+    # Where y changes sign, the nearer end is within half the step's travel of y = 0:
+    # one comparison, cheap in the vector loop.
+    reach = NEAR_SWITCH * dt * (abs(v0) + abs(v1)) + 0.5 * abs(y1 - y0)
+    return min(abs(y0), abs(y1)) <= reach
 
 
 @numba.njit(cache=True, inline="always")
@@ -483,31 +485,30 @@ def first_crossing(y0, v0, y1, v1, h, contact):
     best = 1.0 if side * y1 <= 0.0 else 2.0
     # The extrema: roots of p'(s) = h v0 + 2 c2 s + 3 c3 s^2.
     a, b, c = 3.0 * c3, 2.0 * c2, h * v0
-    roots = np.full(2, -1.0)
+    first, second = -1.0, -1.0  # no allocation: this runs on every step near y = 0
     if a != 0.0:
         disc = b * b - 4.0 * a * c
         if disc >= 0.0:
             root = math.sqrt(disc)
-            roots[0], roots[1] = (-b - root) / (2.0 * a), (-b + root) / (2.0 * a)
+            first, second = (-b - root) / (2.0 * a), (-b + root) / (2.0 * a)
     elif b != 0.0:
-        roots[0] = -c / b
-    for s in roots:
+        first = -c / b
+    for s in (first, second):
         if 0.0 < s < best and side * (y0 + s * (h * v0 + s * (c2 + s * c3))) <= 0.0:
             best = s
     return best if best <= 1.0 else -1.0
 
 
 @numba.njit(cache=True)
-def locate_switch(y, v, dt, p_a, k, steps, start, end, law):
+def locate_switch(y, v, dt, p_a, k, steps, start, end, law, y_hi):
     """The fraction in (start, end] where RK4 by ``law`` from (y, v) at ``start`` reaches
-    y = 0 (y's sign at ``end`` is across): Newton's method on the sub-step's end (dy/ds
+    y = 0 (y_hi, the sub-step's y at ``end``, is across): Newton's method on the sub-step's end (dy/ds
     = dt v there), kept inside the bracket, with the Illinois method where Newton would
     leave it. Some three sub-steps."""
     side = 1.0 if law == CONTACT else -1.0
     none = np.empty(0)  # no columns
     lo, hi = start, end
     g_lo = side * y if y != 0.0 else 1e-300  # just past a switch: on its new side
-    y_hi, v_hi = side_step(y, v, dt, p_a, k, steps, start, end, law, none, none, none, none)
     g_hi = side * y_hi
     kept = 0
     mid = (lo * g_hi - hi * g_lo) / (g_hi - g_lo)  # the secant through the bracket's ends
@@ -561,22 +562,29 @@ def event_step(y, v, dt, p_a, k, steps, y_end, v_end, dy, dv, dt_seed, p_a_seed,
                            none)
         across = first_crossing(y, v, y1, v1, dt * (1.0 - start), contact)
         end = start + across * (1.0 - start)
+        y_at = y1
         if across > 0.0 and across < 1.0:  # an extremum across: is it, by the step itself?
             y_at, _v = side_step(y, v, dt, p_a, k, steps, start, end, law, none, none, none, none)
             if (y_at > 0.0) == contact:
                 across = 1.0 if (y1 > 0.0) != contact else -1.0
-                end = 1.0
+                end, y_at = 1.0, y1
+        if across < 0.0 and dy.shape[0] == 0:  # no switch left, no columns
+            return y1, v1, event
         if across < 0.0:  # no switch left in the step
             y1, v1 = moving_ends_step(y, v, dt, p_a, k, steps, start, 1.0, law, dy, dv,
                                       dt_seed, p_a_seed, moved, False)
             return y1, v1, event
         if event == MAX_SWITCHES:
             break
-        at = locate_switch(y, v, dt, p_a, k, steps, start, end, law)
+        at = locate_switch(y, v, dt, p_a, k, steps, start, end, law, y_at)
         # The columns through the switch, whose time moves with them: at the switch, y's
         # derivative is 0 and the rest is the saltation matrix's, to the step's last bit.
-        _y, v_at = moving_ends_step(y, v, dt, p_a, k, steps, start, at, law, dy, dv, dt_seed,
-                                    p_a_seed, moved, True)
+        if dy.shape[0] == 0:
+            _y, v_at = side_step(y, v, dt, p_a, k, steps, start, at, law, none, none, none,
+                                 none)
+        else:
+            _y, v_at = moving_ends_step(y, v, dt, p_a, k, steps, start, at, law, dy, dv,
+                                        dt_seed, p_a_seed, moved, True)
         y, v, start, contact = 0.0, v_at, at, not contact
     return math.nan, math.nan, -1
 
@@ -584,6 +592,8 @@ def event_step(y, v, dt, p_a, k, steps, y_end, v_end, dy, dv, dt_seed, p_a_seed,
 @numba.njit(cache=True)
 def switched(y, v, dt, p_a, k, drive, y_end, v_end):
     """``event_step`` of a state without columns (the drive table gives N)."""
+    if first_crossing(y, v, y_end, v_end, dt, y > 0.0) < 0.0:  # the straight step holds
+        return y_end, v_end
     steps = (drive.shape[0] - 1) // 2
     none = np.empty(0)  # no columns
     y1, v1, _ = event_step(y, v, dt, p_a, k, steps, y_end, v_end, none, none, none, none,
@@ -596,6 +606,8 @@ def switched_tangents(y, v, dt, p_a, k, drive, y_end, v_end, dy1, dv1, ey1, ev1,
                       ey0, ev0):
     """``event_step`` of a state and two tangent directions (as ``rk4_step_tangents``):
     (dy1, dv1), (ey1, ev1) after the straight step, (dy0, dv0), (ey0, ev0) before it."""
+    if first_crossing(y, v, y_end, v_end, dt, y > 0.0) < 0.0:  # the straight step holds
+        return y_end, v_end, dy1, dv1, ey1, ev1
     steps = (drive.shape[0] - 1) // 2
     dy, dv = np.array([dy1, ey1]), np.array([dv1, ev1])
     seeds = np.zeros(2)
@@ -627,17 +639,22 @@ def shoot_periods(y, v, dt, p_a, drive, periods, monodromy):
     for _ in range(periods):
         for k in range(steps):
             c0, ch, c1 = drive_at_step(drive, k)
+            if SWITCHES:  # noqa: F821 (copied apart, as in advance_step)
+                copy_into(before[0], ys)
+                copy_into(before[1], vs)
+                for row in range(4):
+                    copy_into(before[2 + row], m[row])
+            near = 0
             for lane in range(width):
                 pa = pas[lane]
                 yy, vv = ys[lane], vs[lane]
                 f0, fh, f1 = pa * c0, pa * ch, pa * c1
-                before[0, lane], before[1, lane] = yy, vv
-                before[2, lane], before[3, lane] = m[0, lane], m[1, lane]
-                before[4, lane], before[5, lane] = m[2, lane], m[3, lane]
                 ys[lane], vs[lane], m[0, lane], m[1, lane], m[2, lane], m[3, lane] = (
                     rk4_step_tangents(yy, vv, m[0, lane], m[1, lane], m[2, lane], m[3, lane],
                                       dts[lane], f0, fh, f1))
-            if SWITCHES:  # noqa: F821
+                if SWITCHES:  # noqa: F821
+                    near += near_switch(yy, vv, ys[lane], vs[lane], dts[lane])
+            if near:
                 for lane in range(width):
                     b = before[:, lane]
                     if near_switch(b[0], b[1], ys[lane], vs[lane], dts[lane]):

@@ -343,14 +343,16 @@ def test_orbits_of_every_period_up_to_8_are_found():
         assert abs(run.app_m[0] / attractor.app_m - 1) < 1e-4
 
 
-def _largest_lyapunov_per_period(frequency_hz, p_a_n, y, v, steps, periods=1000):
-    """Two neighbouring trajectories, renormalised every 5 periods (tests only)."""
+def _largest_lyapunov_per_period(frequency_hz, p_a_n, y, v, steps, periods=1000, angle=0.0):
+    """Two neighbouring trajectories, renormalised every 5 periods (tests only); the first
+    apart by 1e-9 y0 along ``angle`` in the plane of (y, v / omega0)."""
     from numerics import simulate
     from perturb import eq26_numbers
 
     numbers = eq26_numbers()
     d0, total = 1e-9 * numbers.y0_m, 0.0
-    ys, vs = np.array([y, y + d0]), np.array([v, v])
+    ys = np.array([y, y + d0 * np.cos(angle)])
+    vs = np.array([v, v + d0 * np.sin(angle) * numbers.omega0_rad_s])
     for _ in range(periods // 5):
         run = simulate([frequency_hz] * 2, p_a_n, periods=5, steps_per_period=steps,
                        y_init_m=ys, v_init_m_s=vs)

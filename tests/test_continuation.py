@@ -493,14 +493,25 @@ def test_a_period_doubling_is_where_time_marching_first_shows_period_2(doubling_
     assert (periods[last_single + 1:first_double] == 0).all()
     above, below = grid[last_single], grid[first_double]
     assert above - below <= 2.5  # measured: 1558.0 and 1555.5 Hz
-    # Measured: 1557.16 Hz at 512 steps. It is the doubling of the map at these steps: at
-    # 1024 steps it lies at 1556.62 Hz (review).
+    # Measured: 1556.68 Hz at 512 steps, the doubling of the map at these steps; at 1024
+    # steps within 1e-5 Hz of it (test_the_doubling_hardly_moves_with_the_step).
     assert below < doubling.frequency_hz < above, (below, doubling.frequency_hz, above)
     # The branch is stable above the doubling and unstable below it (a multiplier past -1).
     above_it = branch.frequency_hz > doubling.frequency_hz
     well_below = branch.frequency_hz < doubling.frequency_hz - 1.0
     assert above_it.any() and well_below.any()
     assert branch.stable[above_it].all() and not branch.stable[well_below].any()
+
+
+def test_the_doubling_hardly_moves_with_the_step(doubling_125):
+    # A bifurcation is that of the RK4 map at the branch's steps per period. With the
+    # contact's switches located within the step that map converges at order four
+    # through loss of contact, and the doubling at 1024 steps lies 1.1e-6 Hz from the
+    # one at 512 (measured; where the steps went straight over y = 0: 0.54 Hz).
+    _, doubling = doubling_125
+    finer = continue_orbits(1.25, 1540.0, 1600.0, steps_per_period=1024)
+    (at_1024,) = [b for b in finer.bifurcations if b.kind == "period-doubling"]
+    assert abs(at_1024.frequency_hz - doubling.frequency_hz) < 1e-5
 
 
 @pytest.fixture(scope="module")
@@ -520,7 +531,10 @@ def test_the_switched_branch_is_the_period_2_orbit_that_marching_reaches(doublin
     doubled = switch_branch(run, doubling)
     (branch,) = doubled.branches
     assert branch.period == 2 and doubled.settings["switched_at_hz"] == [doubling.frequency_hz]
-    assert abs(branch.frequency_hz[0] - doubling.frequency_hz) < 1e-3  # measured: 2e-4 Hz
+    assert abs(branch.frequency_hz[0] - doubling.frequency_hz) < 1e-5  # measured: 6.4e-7 Hz
+    # No fold on it: the map has no corners between the switches (without the switches
+    # located, two folds 0.2 Hz apart were reported within 0.7 Hz of the doubling).
+    assert not doubled.bifurcations
     assert branch.frequency_hz.min() == 1500.0  # walked down to the band's end
     # (Nearer the doubling a multiplier nears 1 and marching takes longer than its cap.)
     # (Every second point: with the contact switches located within the step the walk
@@ -765,8 +779,8 @@ def test_bad_force_continuation_command_lines_exit_2_with_one_line(options, mess
 def test_continued_in_force_the_period_doubling_is_where_continuation_in_f_has_it(
         doubling_125):
     # Two routes to one period doubling: continuation in f_e at 1.25 Q has it at
-    # 1557.16 Hz; continuation in P_a at that f_e has it at 1.25 Q (measured within
-    # 4.6e-13 Q from 0.8 Q, 1.7e-9 Q from 0.5 Q). Allowance: each is located to 1e-8 in
+    # 1556.68 Hz; continuation in P_a at that f_e has it at 1.25 Q (measured within
+    # 5.0e-11 Q from 0.8 Q). Allowance: each is located to 1e-8 in
     # its parameter (LOCATE_TOL), and 1e-8 f_n0 in f_e moves it by some 8e-9 Q here
     # (dP_a/df_e = 5e-4 Q/Hz: 1.2514 Q at 1560 Hz, 1.2725 Q at 1600 Hz).
     from numerics import continue_in_force

@@ -8,7 +8,9 @@ locates each switch too (scipy's DOP853 with events, ``reference_last_period``):
   spring-dashpot one (m2 = 1, l = 0, whose damping force jumps at every touch-down);
 - where a law is not (m2 = 1.5: y^1.5; l = 0.5: sqrt(y) v), the law itself limits
   any fixed step near the switch, and the order measured is lower (stated below);
-- several switches within one step (a flight shorter than a step);
+- several switches within one step (a flight shorter than a step), and a graze (a
+  flight that touches y = 0 and turns back within one step), on either side of which
+  the step's end differs by no more than RK4's local error;
 - the monodromy matrix, the exact derivative of the split steps (each switch time
   moving with the state), against finite differences of the period map.
 """
@@ -193,3 +195,49 @@ def test_the_bouncing_folds_are_located(frac, fold_hz):
             LOCATE_TOL * f_n0, rel=1e-6)
         found.append(bouncing.frequency_hz)
     assert abs(found[0] - found[1]) < 1e-3 and abs(found[1] - fold_hz) < 1e-3, found
+
+
+def test_a_grazing_step_is_continuous_in_its_start():
+    # A flight that rises to y = 0 and turns back within one step (the drive pulling
+    # away harder than the weight: 2 Q at the drive's trough): as its apex passes y = 0
+    # the step goes from no switch to two (touch-down and lift-off). The starting
+    # velocity at which it changes is bisected to the last bit, and the ends on either
+    # side are compared.
+    model = ContactModel()
+    kernels = compiled_kernels(model)
+    f_e, steps, k = 500.0, 80, 40  # step 40 of 80: the drive at its trough
+    p_a = 2.0 * model.parameters.Q_n
+    dt = 1.0 / (steps * f_e)
+    drive = np.cos(np.pi * np.arange(2 * steps + 1) / steps)
+    y = -1e-10  # 0.1 nm below y = 0; the apex is some 4.5 us on, the step 25 us long
+    none = np.empty(0)
+
+    def step(v):
+        y1, v1 = kernels.rk4_step(y, v, dt, p_a * drive[2 * k], p_a * drive[2 * k + 1],
+                                  p_a * drive[2 * k + 2])
+        return kernels.event_step(y, v, dt, p_a, k, steps, y1, v1, none, none, none, none,
+                                  none, none)
+
+    low, high = 1e-5, 1e-4  # no switch, two
+    assert step(low)[2] == 0 and step(high)[2] == 2
+    for _ in range(200):
+        middle = 0.5 * (low + high)
+        if middle in (low, high):
+            break
+        if step(middle)[2] == 0:
+            low = middle
+        else:
+            high = middle
+    below, above = step(low), step(high)
+    assert below[2] == 0 and above[2] == 2
+    # The ends differ by the step's own local error, not more: two RK4 sub-steps in
+    # place of one (split at the vanishing contact). Measured: 1.3e-16 m in y and
+    # 4.2e-12 m/s in v, against 2.3e-16 m and 6.1e-12 m/s between one step and two
+    # halves of it (the size of RK4's local error here): a seam of that size remains.
+    flight = 2  # the flight law (numerics/_kernel_template.py: FLIGHT)
+    half = kernels.side_step(y, low, dt, p_a, k, steps, 0.0, 0.5, flight, none, none, none,
+                             none)
+    halves = kernels.side_step(*half, dt, p_a, k, steps, 0.5, 1.0, flight, none, none, none,
+                               none)
+    assert abs(above[0] - below[0]) <= abs(halves[0] - below[0])
+    assert abs(above[1] - below[1]) <= abs(halves[1] - below[1])

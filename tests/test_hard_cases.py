@@ -624,7 +624,7 @@ def test_a_jump_that_cannot_be_swept_finer_is_flagged(monkeypatch):
 
 
 def test_a_march_near_a_period_doubling_gives_the_period_1_orbit():
-    # Regression: near a period doubling (1.25 Q, above 1557.16 Hz) the period-1 orbit's
+    # Regression: near a period doubling (1.25 Q, above 1556.68 Hz) the period-1 orbit's
     # multipliers lie near -1 (a complex pair of modulus 0.93 at 1568.8 Hz), so the lag-2
     # stroboscopic differences repeat within tol while lag 1 is still about 2 tol: time
     # marching alone reported period 2 on the period-1 orbit. Now p is taken only where

@@ -51,7 +51,8 @@ def drive_at_step(drive, k):
 def advance_step(y, v, dt, p_a, drive, k, y_start, v_start):
     """Advance every lane by step k of the period (drive: cos table, 2N + 1 long); the
     state before it is left in (y_start, v_start). The lanes go straight, in one vector
-    loop; then the few near y = 0 are split at their switches (``settle_switches``)."""
+    loop, which counts those near y = 0; the caller then splits them at their switches
+    (``settle_switches``), out of this loop's way. Returns that count."""
     c0, ch, c1 = drive_at_step(drive, k)
     near = 0
     for lane in range(y.shape[0]):
@@ -61,8 +62,7 @@ def advance_step(y, v, dt, p_a, drive, k, y_start, v_start):
         if SWITCHES:  # noqa: F821 (a count, branch-free: the loop stays a vector loop)
             y_start[lane], v_start[lane] = ys, vs
             near += near_switch(ys, vs, y1, v1, dt[lane])
-    if near:
-        settle_switches(y, v, dt, p_a, drive, k, y_start, v_start)
+    return near
 
 
 @numba.njit(cache=True)
@@ -70,8 +70,8 @@ def settle_switches(y, v, dt, p_a, drive, k, y_start, v_start):
     """Step k of every lane whose straight step may cross y = 0, split at its switches."""
     for lane in range(y.shape[0]):
         if near_switch(y_start[lane], v_start[lane], y[lane], v[lane], dt[lane]):
-            y[lane], v[lane] = switched(y_start[lane], v_start[lane], dt[lane], p_a[lane], k,
-                                        drive, y[lane], v[lane])
+            y[lane], v[lane], _ = switched(y_start[lane], v_start[lane], dt[lane], p_a[lane],
+                                           k, drive, y[lane], v[lane])
 
 
 @numba.njit(cache=True)
@@ -91,7 +91,8 @@ def advance_periods(y, v, dt, p_a, drive, periods, failed_period, limit):
     y_start, v_start = np.empty(y.shape[0]), np.empty(y.shape[0])
     for period in range(periods):
         for k in range(steps):
-            advance_step(y, v, dt, p_a, drive, k, y_start, v_start)
+            if advance_step(y, v, dt, p_a, drive, k, y_start, v_start):
+                settle_switches(y, v, dt, p_a, drive, k, y_start, v_start)
         mark_failed(y, v, failed_period, period, limit)
 
 
@@ -289,34 +290,27 @@ def rk4_step_tangents(y, v, dy, dv, ey, ev, dt, force_start, force_mid, force_en
 
 
 @numba.njit(cache=True, inline="always")
-def stage_partials(y, v, force, law):
-    """a and its partials by y, v and the force at one stage: (a, a_y, a_v, a_force), by
-    the model's law (``law`` PIECEWISE) or by one side's (CONTACT, FLIGHT: ``SWITCHES``)."""
-    if law == CONTACT:
-        a_y, a_v, a_force = acceleration_partials_contact(y, v, force)  # noqa: F821
-        return acceleration_contact(y, v, force), a_y, a_v, a_force  # noqa: F821
-    if law == FLIGHT:
-        a_y, a_v, a_force = acceleration_partials_flight(y, v, force)  # noqa: F821
-        return acceleration_flight(y, v, force), a_y, a_v, a_force  # noqa: F821
+def stage_partials(y, v, force):
+    """a and its partials by y, v and the force at one stage: (a, a_y, a_v, a_force)."""
     a_y, a_v, a_force = acceleration_partials(y, v, force)  # noqa: F821
     return acceleration(y, v, force), a_y, a_v, a_force  # noqa: F821
 
 
 @numba.njit(cache=True, inline="always")
-def rk4_step_columns(y, v, dt, p_a, c0, ch, c1, dy, dv, dt_seed, p_a_seed, law=0):
+def rk4_step_columns(y, v, dt, p_a, c0, ch, c1, dy, dv, dt_seed, p_a_seed):
     """One RK4 step of one lane and its derivative along each column of (dy, dv) (in
     place): the derivative of the discrete step by the start state, and, for a column
     with ``dt_seed`` or ``p_a_seed`` 1, by dt or by P_a (the drive is P_a (c0, ch, c1)
     at the step's stages). The stages' partials are computed once for all columns.
     With both seeds 0 a column's arithmetic is that of ``rk4_step_tangents``, term for
-    term: the same numbers, to the last bit. ``law``: as ``stage_partials``'."""
-    a1, y1_y, y1_v, y1_f = stage_partials(y, v, p_a * c0, law)
+    term: the same numbers, to the last bit."""
+    a1, y1_y, y1_v, y1_f = stage_partials(y, v, p_a * c0)
     y2, v2 = y + 0.5 * dt * v, v + 0.5 * dt * a1
-    a2, y2_y, y2_v, y2_f = stage_partials(y2, v2, p_a * ch, law)
+    a2, y2_y, y2_v, y2_f = stage_partials(y2, v2, p_a * ch)
     y3, v3 = y + 0.5 * dt * v2, v + 0.5 * dt * a2
-    a3, y3_y, y3_v, y3_f = stage_partials(y3, v3, p_a * ch, law)
+    a3, y3_y, y3_v, y3_f = stage_partials(y3, v3, p_a * ch)
     y4, v4 = y + dt * v3, v + dt * a3
-    a4, y4_y, y4_v, y4_f = stage_partials(y4, v4, p_a * c1, law)
+    a4, y4_y, y4_v, y4_f = stage_partials(y4, v4, p_a * c1)
     sum_v = v + 2.0 * v2 + 2.0 * v3 + v4
     sum_a = a1 + 2.0 * a2 + 2.0 * a3 + a4
     for col in range(dy.shape[0]):
@@ -347,8 +341,8 @@ def rk4_step_columns(y, v, dt, p_a, c0, ch, c1, dy, dv, dt_seed, p_a_seed, law=0
 # S = I + (f_after - f_before) e_y^T / v* with f = (v, a) and v* the velocity at the
 # switch; here it is exact for the map the kernels iterate.
 
-#: Laws a step may integrate with: the model's (piecewise), or one side's of y = 0.
-PIECEWISE, CONTACT, FLIGHT = 0, 1, 2
+#: The two sides of y = 0, each with its own law, that the pieces of a split step take.
+CONTACT, FLIGHT = 1, 2
 #: Switches one step may hold; more is chattering (ever shorter flights): the lane fails.
 MAX_SWITCHES = 16
 #: Illinois iterations that locate a switch (each one RK4 sub-step); it stops earlier
@@ -362,13 +356,21 @@ NEAR_SWITCH = 0.2
 
 
 @numba.njit(cache=True, inline="always")
-def acceleration_law(y, v, force, law):
-    """The acceleration by one side's law (CONTACT, FLIGHT) or the model's (PIECEWISE)."""
+def side_acceleration(y, v, force, law):
+    """The acceleration by one side's law: CONTACT's (extended past y = 0) or FLIGHT's."""
     if law == CONTACT:
         return acceleration_contact(y, v, force)  # noqa: F821
-    if law == FLIGHT:
-        return acceleration_flight(y, v, force)  # noqa: F821
-    return acceleration(y, v, force)  # noqa: F821
+    return acceleration_flight(y, v, force)  # noqa: F821
+
+
+@numba.njit(cache=True, inline="always")
+def side_partials(y, v, force, law):
+    """``stage_partials`` by one side's law (CONTACT, FLIGHT)."""
+    if law == CONTACT:
+        a_y, a_v, a_force = acceleration_partials_contact(y, v, force)  # noqa: F821
+        return acceleration_contact(y, v, force), a_y, a_v, a_force  # noqa: F821
+    a_y, a_v, a_force = acceleration_partials_flight(y, v, force)  # noqa: F821
+    return acceleration_flight(y, v, force), a_y, a_v, a_force  # noqa: F821
 
 
 @numba.njit(cache=True, inline="always")
@@ -387,25 +389,21 @@ def drive_at(k, fraction, steps):
 
 
 @numba.njit(cache=True)
-def side_step(y, v, dt, p_a, k, steps, start, end, law, dy, dv, dt_seed, p_a_seed):
-    """RK4 from fraction ``start`` to ``end`` of step k by one side's law (and the columns'
-    derivative, their dt seed scaled by the sub-step's share of dt)."""
-    share = end - start
-    c0, ch, c1 = drive_at(k, start, steps), drive_at(k, 0.5 * (start + end), steps), \
-        drive_at(k, end, steps)
-    if dy.shape[0] == 0:  # the state alone: no partials (infinite at y = 0 where l < 1)
-        h, f0, fh, f1 = dt * share, p_a * c0, p_a * ch, p_a * c1
-        a1 = acceleration_law(y, v, f0, law)
-        v2 = v + 0.5 * h * a1
-        a2 = acceleration_law(y + 0.5 * h * v, v2, fh, law)
-        v3 = v + 0.5 * h * a2
-        a3 = acceleration_law(y + 0.5 * h * v2, v3, fh, law)
-        v4 = v + h * a3
-        a4 = acceleration_law(y + h * v3, v4, f1, law)
-        return (y + h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4),
-                v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4))
-    return rk4_step_columns(y, v, dt * share, p_a, c0, ch, c1, dy, dv, dt_seed * share,
-                            p_a_seed, law)
+def side_step(y, v, dt, p_a, k, steps, start, end, law):
+    """The state after RK4 from fraction ``start`` to ``end`` of step k by one side's law
+    (no partials: they are infinite at y = 0 where l < 1)."""
+    h = dt * (end - start)
+    f0, fh, f1 = p_a * drive_at(k, start, steps), \
+        p_a * drive_at(k, 0.5 * (start + end), steps), p_a * drive_at(k, end, steps)
+    a1 = side_acceleration(y, v, f0, law)
+    v2 = v + 0.5 * h * a1
+    a2 = side_acceleration(y + 0.5 * h * v, v2, fh, law)
+    v3 = v + 0.5 * h * a2
+    a3 = side_acceleration(y + 0.5 * h * v2, v3, fh, law)
+    v4 = v + h * a3
+    a4 = side_acceleration(y + h * v3, v4, f1, law)
+    return (y + h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4),
+            v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4))
 
 
 @numba.njit(cache=True)
@@ -414,13 +412,13 @@ def forced_columns_step(y, v, h, f0, fh, f1, law, dy, dv, h_seed, q0, qh, q1):
     seeded by the derivative of h (``h_seed``) and of the force at each stage (q0, qh,
     q1): ``rk4_step_columns`` with stage-wise force seeds, for the sub-steps of a split
     step, whose ends move with the switch."""
-    a1, y1_y, y1_v, y1_f = stage_partials(y, v, f0, law)
+    a1, y1_y, y1_v, y1_f = side_partials(y, v, f0, law)
     y2, v2 = y + 0.5 * h * v, v + 0.5 * h * a1
-    a2, y2_y, y2_v, y2_f = stage_partials(y2, v2, fh, law)
+    a2, y2_y, y2_v, y2_f = side_partials(y2, v2, fh, law)
     y3, v3 = y + 0.5 * h * v2, v + 0.5 * h * a2
-    a3, y3_y, y3_v, y3_f = stage_partials(y3, v3, fh, law)
+    a3, y3_y, y3_v, y3_f = side_partials(y3, v3, fh, law)
     y4, v4 = y + h * v3, v + h * a3
-    a4, y4_y, y4_v, y4_f = stage_partials(y4, v4, f1, law)
+    a4, y4_y, y4_v, y4_f = side_partials(y4, v4, f1, law)
     sum_v = v + 2.0 * v2 + 2.0 * v3 + v4
     sum_a = a1 + 2.0 * a2 + 2.0 * a3 + a4
     for col in range(dy.shape[0]):
@@ -502,11 +500,10 @@ def first_crossing(y0, v0, y1, v1, h, contact):
 @numba.njit(cache=True)
 def locate_switch(y, v, dt, p_a, k, steps, start, end, law, y_hi):
     """The fraction in (start, end] where RK4 by ``law`` from (y, v) at ``start`` reaches
-    y = 0 (y_hi, the sub-step's y at ``end``, is across): Newton's method on the sub-step's end (dy/ds
-    = dt v there), kept inside the bracket, with the Illinois method where Newton would
-    leave it. Some three sub-steps."""
+    y = 0 (y_hi, the sub-step's y at ``end``, is across): Newton's method on the
+    sub-step's end (dy/ds = dt v there), kept inside the bracket, with the Illinois
+    method where Newton would leave it. Some three sub-steps."""
     side = 1.0 if law == CONTACT else -1.0
-    none = np.empty(0)  # no columns
     lo, hi = start, end
     g_lo = side * y if y != 0.0 else 1e-300  # just past a switch: on its new side
     g_hi = side * y_hi
@@ -515,8 +512,7 @@ def locate_switch(y, v, dt, p_a, k, steps, start, end, law, y_hi):
     for _ in range(EVENT_ITERATIONS):
         if not lo < mid < hi:
             mid = 0.5 * (lo + hi)
-        y_mid, v_mid = side_step(y, v, dt, p_a, k, steps, start, mid, law, none, none, none,
-                                 none)
+        y_mid, v_mid = side_step(y, v, dt, p_a, k, steps, start, mid, law)
         g_mid = side * y_mid
         if g_mid > 0.0:
             lo, g_lo = mid, g_mid
@@ -539,66 +535,83 @@ def locate_switch(y, v, dt, p_a, k, steps, start, end, law, y_hi):
 
 
 @numba.njit(cache=True)
+def next_switch(y, v, dt, p_a, k, steps, start, contact):
+    """The next switch of a step taken on from fraction ``start`` on the side ``contact``
+    (y > 0): (its fraction, or -1 where there is none left, and then the step's end by
+    that side's law)."""
+    law = CONTACT if contact else FLIGHT
+    y1, v1 = side_step(y, v, dt, p_a, k, steps, start, 1.0, law)
+    across = first_crossing(y, v, y1, v1, dt * (1.0 - start), contact)
+    end = start + across * (1.0 - start)
+    y_at = y1
+    if across > 0.0 and across < 1.0:  # an extremum across: is it, by the step itself?
+        y_at, _v = side_step(y, v, dt, p_a, k, steps, start, end, law)
+        if (y_at > 0.0) == contact:
+            across = 1.0 if (y1 > 0.0) != contact else -1.0
+            end, y_at = 1.0, y1
+    if across < 0.0:
+        return -1.0, y1, v1
+    return locate_switch(y, v, dt, p_a, k, steps, start, end, law, y_at), y1, v1
+
+
+@numba.njit(cache=True)
+def split_step(y, v, dt, p_a, k, steps):
+    """Step k of a state split at every switch of the laws within it: (y, v, switches),
+    switches -1 where more than MAX_SWITCHES were met: (NaN, NaN), the lane fails."""
+    contact = y > 0.0
+    start = 0.0
+    for event in range(MAX_SWITCHES + 1):
+        at, y1, v1 = next_switch(y, v, dt, p_a, k, steps, start, contact)
+        if at < 0.0:
+            return y1, v1, event
+        if event == MAX_SWITCHES:
+            break
+        _y, v_at = side_step(y, v, dt, p_a, k, steps, start, at, CONTACT if contact else FLIGHT)
+        y, v, start, contact = 0.0, v_at, at, not contact
+    return math.nan, math.nan, -1
+
+
+@numba.njit(cache=True)
 def event_step(y, v, dt, p_a, k, steps, y_end, v_end, dy, dv, dt_seed, p_a_seed, dy_start,
                dv_start):
-    """Step k of a lane near y = 0, split at every switch of the laws within it.
+    """``split_step`` with the derivative of the split step along each column (dy, dv).
 
     (y_end, v_end) and the columns (dy, dv) hold the straight step's result: kept, to the
     last bit, unless its interpolant crosses y = 0. Otherwise the step is taken again
     from (y, v) and the columns (dy_start, dv_start), side by side, each switch located
-    and its saltation applied. Returns (y, v, switches), switches -1 where more than
-    MAX_SWITCHES were met: (NaN, NaN), the lane fails."""
+    and its saltation applied. Returns as ``split_step``."""
     contact = y > 0.0
     if first_crossing(y, v, y_end, v_end, dt, contact) < 0.0:
         return y_end, v_end, 0
-    none = np.empty(0)  # no columns
     copy_into(dy, dy_start)
     copy_into(dv, dv_start)
     moved = np.zeros(dy.shape[0])  # d(the sub-step's start) by each column
     start = 0.0
     for event in range(MAX_SWITCHES + 1):
         law = CONTACT if contact else FLIGHT
-        y1, v1 = side_step(y, v, dt, p_a, k, steps, start, 1.0, law, none, none, none,
-                           none)
-        across = first_crossing(y, v, y1, v1, dt * (1.0 - start), contact)
-        end = start + across * (1.0 - start)
-        y_at = y1
-        if across > 0.0 and across < 1.0:  # an extremum across: is it, by the step itself?
-            y_at, _v = side_step(y, v, dt, p_a, k, steps, start, end, law, none, none, none, none)
-            if (y_at > 0.0) == contact:
-                across = 1.0 if (y1 > 0.0) != contact else -1.0
-                end, y_at = 1.0, y1
-        if across < 0.0 and dy.shape[0] == 0:  # no switch left, no columns
-            return y1, v1, event
-        if across < 0.0:  # no switch left in the step
+        at, y1, v1 = next_switch(y, v, dt, p_a, k, steps, start, contact)
+        if at < 0.0:  # no switch left in the step
             y1, v1 = moving_ends_step(y, v, dt, p_a, k, steps, start, 1.0, law, dy, dv,
                                       dt_seed, p_a_seed, moved, False)
             return y1, v1, event
         if event == MAX_SWITCHES:
             break
-        at = locate_switch(y, v, dt, p_a, k, steps, start, end, law, y_at)
         # The columns through the switch, whose time moves with them: at the switch, y's
         # derivative is 0 and the rest is the saltation matrix's, to the step's last bit.
-        if dy.shape[0] == 0:
-            _y, v_at = side_step(y, v, dt, p_a, k, steps, start, at, law, none, none, none,
-                                 none)
-        else:
-            _y, v_at = moving_ends_step(y, v, dt, p_a, k, steps, start, at, law, dy, dv,
-                                        dt_seed, p_a_seed, moved, True)
+        _y, v_at = moving_ends_step(y, v, dt, p_a, k, steps, start, at, law, dy, dv, dt_seed,
+                                    p_a_seed, moved, True)
         y, v, start, contact = 0.0, v_at, at, not contact
     return math.nan, math.nan, -1
 
 
 @numba.njit(cache=True)
 def switched(y, v, dt, p_a, k, drive, y_end, v_end):
-    """``event_step`` of a state without columns (the drive table gives N)."""
+    """Step k of a state near y = 0 (the drive table gives N), (y_end, v_end) the
+    straight step's result: kept, to the last bit, unless its interpolant crosses y = 0,
+    else ``split_step``'s. Returns (y, v, switches)."""
     if first_crossing(y, v, y_end, v_end, dt, y > 0.0) < 0.0:  # the straight step holds
-        return y_end, v_end
-    steps = (drive.shape[0] - 1) // 2
-    none = np.empty(0)  # no columns
-    y1, v1, _ = event_step(y, v, dt, p_a, k, steps, y_end, v_end, none, none, none, none,
-                           none, none)
-    return y1, v1
+        return y_end, v_end, 0
+    return split_step(y, v, dt, p_a, k, (drive.shape[0] - 1) // 2)
 
 
 @numba.njit(cache=True)
@@ -762,7 +775,8 @@ def strobe_periods(y, v, dt, p_a, drive, periods, strobe_y, strobe_v, span, fail
         copy_into(low, y)
         copy_into(high, y)
         for k in range(steps):
-            advance_step(y, v, dt, p_a, drive, k, y_start, v_start)
+            if advance_step(y, v, dt, p_a, drive, k, y_start, v_start):
+                settle_switches(y, v, dt, p_a, drive, k, y_start, v_start)
             for lane in range(lanes):
                 low[lane] = min(low[lane], y[lane])
                 high[lane] = max(high[lane], y[lane])

@@ -85,9 +85,7 @@ def test_several_switches_within_one_step():
     f_e, steps = 500.0, 80
     y, v = 1e-12, -1e-4
     dt = 1.0 / (steps * f_e)
-    none = np.empty(0)
-    y1, v1, switches = kernels.event_step(y, v, dt, 0.0, 0, steps, -1.0, 0.0, none, none, none,
-                                          none, none, none)
+    y1, v1, switches = kernels.split_step(y, v, dt, 0.0, 0, steps)
     assert switches == 2
     # The reference over the same step (DOP853 with events, one step = 1/16 period).
     from scipy.integrate import solve_ivp
@@ -210,13 +208,11 @@ def test_a_grazing_step_is_continuous_in_its_start():
     dt = 1.0 / (steps * f_e)
     drive = np.cos(np.pi * np.arange(2 * steps + 1) / steps)
     y = -1e-10  # 0.1 nm below y = 0; the apex is some 4.5 us on, the step 25 us long
-    none = np.empty(0)
 
-    def step(v):
+    def step(v):  # as the kernels take it: straight, then split where it may switch
         y1, v1 = kernels.rk4_step(y, v, dt, p_a * drive[2 * k], p_a * drive[2 * k + 1],
                                   p_a * drive[2 * k + 2])
-        return kernels.event_step(y, v, dt, p_a, k, steps, y1, v1, none, none, none, none,
-                                  none, none)
+        return kernels.switched(y, v, dt, p_a, k, drive, y1, v1)
 
     low, high = 1e-5, 1e-4  # no switch, two
     assert step(low)[2] == 0 and step(high)[2] == 2
@@ -234,10 +230,8 @@ def test_a_grazing_step_is_continuous_in_its_start():
     # place of one (split at the vanishing contact). Measured: 1.3e-16 m in y and
     # 4.2e-12 m/s in v, against 2.3e-16 m and 6.1e-12 m/s between one step and two
     # halves of it (the size of RK4's local error here): a seam of that size remains.
-    flight = 2  # the flight law (numerics/_kernel_template.py: FLIGHT)
-    half = kernels.side_step(y, low, dt, p_a, k, steps, 0.0, 0.5, flight, none, none, none,
-                             none)
-    halves = kernels.side_step(*half, dt, p_a, k, steps, 0.5, 1.0, flight, none, none, none,
-                               none)
+    flight = kernels.FLIGHT
+    half = kernels.side_step(y, low, dt, p_a, k, steps, 0.0, 0.5, flight)
+    halves = kernels.side_step(*half, dt, p_a, k, steps, 0.5, 1.0, flight)
     assert abs(above[0] - below[0]) <= abs(halves[0] - below[0])
     assert abs(above[1] - below[1]) <= abs(halves[1] - below[1])

@@ -10,9 +10,12 @@ both alike.
   warm: the median of REPEATS calls in each route's process.
 - The kernel without contact loss: RK4 lane-steps of ``advance_periods`` at 0.005 Q,
   where no lane comes near y = 0 (the straight path alone).
-- Steps per period that an accuracy needs on a bouncing state (the paper's contact,
-  490 Hz, 0.5 Q): the error after 3 periods against DOP853 with events (rtol 1e-13),
-  and the least N of 64 ... 4096 (powers of 2) that reaches each accuracy, in each route.
+- Steps per period that an accuracy needs on a bouncing state at 0.5 Q: the error after
+  3 periods against DOP853 with events (rtol 1e-13), and the least N of 64 ... 4096
+  (powers of 2) that reaches each accuracy, in each route; for the paper's contact
+  (490 Hz), the spring-dashpot one (m2 = 1, l = 0, 700 Hz) and m2 = 1.5, l = 0.5
+  (490 Hz), each with the paper's y0 and c (c_n and h_n rescaled, as
+  tests/test_events.py's ``contact``).
 """
 
 from __future__ import annotations
@@ -64,19 +67,30 @@ for _ in range(4 * repeats):
 print(json.dumps([statistics.median(times), statistics.median(kernel)]))
 """
 
-#: Run in a route's tree: |y - y_ref| / y0 after 3 periods from (argv) at each N.
+#: (name, m2, l, f_e [Hz]) of the contacts whose bouncing states are measured.
+CONTACTS = (("paper's contact", 2.0, 1.0, 490.0), ("spring-dashpot", 1.0, 0.0, 700.0),
+            ("m2 = 1.5, l = 0.5", 1.5, 0.5, 490.0))
+
+#: Run in a route's tree: |y - y_ref| / y0 after 3 periods at each N, for each
+#: (m2, l, f_e, y, v, y_ref) of argv[1] (JSON).
 _ERRORS = r"""
 import json, sys
 from numerics import simulate
-from perturb import PAPER, eq26_numbers
+from perturb import PAPER, ContactModel, eq26_numbers, parameters_with
 
-y, v, reference = (float(a) for a in sys.argv[1:4])
-steps = json.loads(sys.argv[4])
+y0 = eq26_numbers().y0_m
+steps = json.loads(sys.argv[2])
 errors = []
-for n in steps:
-    run = simulate(490.0, 0.5 * PAPER.Q_n, periods=3, steps_per_period=n, y_init_m=y,
-                   v_init_m_s=v, record=("final",))
-    errors.append(abs(run.y_final_m[0] - reference) / eq26_numbers().y0_m)
+for m2, l, f_e, y, v, reference in json.loads(sys.argv[1]):
+    model = ContactModel(parameters_with({"m2": m2, "l": l,
+                                          "c_n": PAPER.Q_n / (PAPER.S * y0**m2),
+                                          "h_n": PAPER.h_n * y0**PAPER.l / y0**l}))
+    row = []
+    for n in steps:
+        run = simulate(f_e, 0.5 * PAPER.Q_n, periods=3, steps_per_period=n, model=model,
+                       y_init_m=y, v_init_m_s=v, record=("final",))
+        row.append(abs(run.y_final_m[0] - reference) / y0)
+    errors.append(row)
 print(json.dumps(errors))
 """
 
@@ -88,20 +102,24 @@ def _run(tree: Path, cache: Path, snippet: str, *args: str) -> list:
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def _bouncing_start() -> tuple[float, float, float]:
-    """A state on the bouncing orbit (60 periods from a flight 2 um up, at 4096 steps)
-    and DOP853's y after 3 periods from it."""
+def _bouncing_starts() -> list[tuple]:
+    """For each of CONTACTS: (m2, l, f_e, y, v, y_ref), a state on its bouncing orbit (60
+    periods from a flight 2 um up, at 4096 steps) and DOP853's y after 3 periods."""
     from numerics import simulate
     from numerics._reference import reference_last_period
     from perturb import PAPER, ContactModel
+    from tests.test_events import contact
 
-    p_a = 0.5 * PAPER.Q_n
-    start = simulate(490.0, p_a, periods=60, steps_per_period=4096, y_init_m=-2e-6,
-                     record=("final",))
-    y, v = float(start.y_final_m[0]), float(start.v_final_m_s[0])
-    _, reference = reference_last_period(ContactModel(), 490.0, p_a, y, v, 3, rtol=1e-13,
-                                         samples=2)
-    return y, v, float(reference[-1])
+    starts = []
+    for _, m2, l, f_e in CONTACTS:
+        model = ContactModel(contact(m2, l))
+        p_a = 0.5 * PAPER.Q_n
+        start = simulate(f_e, p_a, periods=60, steps_per_period=4096, model=model,
+                         y_init_m=-2e-6, record=("final",))
+        y, v = float(start.y_final_m[0]), float(start.v_final_m_s[0])
+        _, reference = reference_last_period(model, f_e, p_a, y, v, 3, rtol=1e-13, samples=2)
+        starts.append((m2, l, f_e, y, v, float(reference[-1])))
+    return starts
 
 
 def _least_steps(errors: list[float], accuracy: float) -> float:
@@ -124,8 +142,8 @@ def main() -> None:
         for _ in range(ROUNDS):
             for name, tree in trees.items():
                 times[name].append(_run(tree, caches[name], _TIMES, str(REPEATS)))
-        start = _bouncing_start()
-        errors = {name: _run(tree, caches[name], _ERRORS, *map(repr, start), json.dumps(STEPS))
+        starts = json.dumps(_bouncing_starts())
+        errors = {name: _run(tree, caches[name], _ERRORS, starts, json.dumps(STEPS))
                   for name, tree in trees.items()}
     job = {name: float(np.median([t[0] for t in runs])) for name, runs in times.items()}
     kernel = {name: float(np.median([t[1] for t in runs])) for name, runs in times.items()}
@@ -135,13 +153,19 @@ def main() -> None:
         higher_is_better=False)
     row("kernel, no lane near y = 0 [ns/lane-step] vs before", kernel["events"],
         kernel["before"], "ns", higher_is_better=False)
-    for n, new, old in zip(STEPS, errors["events"], errors["before"]):
-        row(f"bouncing, 490 Hz, 0.5 Q: error / y0 at N = {n} vs before", new, old,
-            higher_is_better=False)
-    for accuracy in ACCURACIES:
-        row(f"  steps per period for {accuracy:g} of y0 vs before",
-            _least_steps(errors["events"], accuracy), _least_steps(errors["before"], accuracy),
-            higher_is_better=False)
+    for c, (name, _m2, _l, f_e) in enumerate(CONTACTS):
+        new_errors, old_errors = errors["events"][c], errors["before"][c]
+        print(f"{name}, bouncing at {f_e:g} Hz, 0.5 Q:")
+        for n, new, old in zip(STEPS, new_errors, old_errors):
+            row(f"  error / y0 after 3 periods at N = {n} vs before", new, old,
+                higher_is_better=False)
+        slopes = np.log2(np.array(new_errors[:-1]) / np.array(new_errors[1:]))
+        print(f"  slopes of the error, N = {STEPS[0]} ... {STEPS[-1]}: "
+              + ", ".join(f"{slope:.1f}" for slope in slopes))
+        for accuracy in ACCURACIES:
+            row(f"  steps per period for {accuracy:g} of y0 vs before",
+                _least_steps(new_errors, accuracy), _least_steps(old_errors, accuracy),
+                higher_is_better=False)
 
 
 if __name__ == "__main__":

@@ -138,3 +138,29 @@ def test_the_folds_command_rejects_a_bad_band():
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 2
     assert "--pa-max" in done.stderr.splitlines()[-1]
+
+
+def test_the_fold_curves_go_on_through_loss_of_contact():
+    # The box of the README's figure. Each switch of the contact located within its
+    # step, the period map is smooth between switches, and the curves go on where the
+    # fold's orbit bounces: those of the 1/2, 1/3 and 1/4 superharmonics reach the box's
+    # edge at 300 Hz (with the steps straight over y = 0 they stopped at 592, 422 and
+    # 311 Hz: "Newton does not converge there"), and the primary's upper fold bends
+    # down past 745 Hz at 0.1 Q (it stopped at 972 Hz, 0.063 Q).
+    run = fold_curves(300.0, 1600.0, 0.02, 0.8, seed_pa_fracs=[0.8, 0.65, 0.4, 0.06])
+    by_resonance = {c.resonance: c for c in run.fold_curves}
+    for m in (2, 3, 4):
+        curve = by_resonance[m]
+        assert curve.status == Status.SUCCESS, curve.message
+        assert curve.frequency_hz.min() == pytest.approx(300.0, abs=1e-9)
+    # Route 2 on a bouncing fold: continuation in f_e at 0.1 Q has its folds where the
+    # primary's curve crosses P_a = 0.1 Q (the curve's points 1.2 Hz apart there,
+    # interpolated linearly in P_a: measured within 6e-4 Hz).
+    primary = by_resonance[1]
+    f, p = primary.frequency_hz, primary.pa_frac
+    crossing = np.flatnonzero(np.diff(np.sign(p - 0.1)) != 0)
+    on_curve = f[crossing] + (0.1 - p[crossing]) / (p[crossing + 1] - p[crossing]) * (
+        f[crossing + 1] - f[crossing])
+    bouncing = min(b.frequency_hz for b in continue_orbits(0.1, 300.0, 1600.0).folds())
+    assert bouncing < 800.0  # the fold of the bouncing branch, App some 5 um
+    assert np.abs(on_curve - bouncing).min() < 5e-3, (on_curve, bouncing)

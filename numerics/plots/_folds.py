@@ -15,8 +15,8 @@ _COLOURS = {0: "tab:gray", 1: "tab:red", 2: "tab:blue", 3: "tab:green"}
 
 def plot_folds(folds, path=None, *, ax=None) -> Figure:
     """The fold curves in the (f_e, P_a / Q) plane, one colour per resonance, each
-    resonance's bistable region (inside its curve, above its cusp) labelled at its cusp,
-    cusps marked; with ``ax``, drawn on it (over an atlas, say)."""
+    resonance's bistable region (inside its curve, above its cusp) labelled at its
+    lowest cusp, cusps marked; with ``ax``, drawn on it (over an atlas, say)."""
     figure, ax = new_figure((7.0, 4.2)) if ax is None else (ax.figure, ax)
     from .._folds import resonance_name
 
@@ -30,9 +30,13 @@ def plot_folds(folds, path=None, *, ax=None) -> Figure:
     ax.set_xlim(settings["fmin_hz"], settings["fmax_hz"])
     top = settings["pa_max"]
     ax.set_ylim(max(0.0, settings["pa_min"] - 0.15 * (top - settings["pa_min"])), top)
+    lowest = {}  # each resonance's cusp of least P_a: where it is first bistable
     for cusp in folds.cusps:
         ax.plot([cusp.frequency_hz], [cusp.pa_frac], "v", color=_COLOURS.get(cusp.resonance,
                 "black"), ms=6)
+        if cusp.resonance not in lowest or cusp.pa_frac < lowest[cusp.resonance].pa_frac:
+            lowest[cusp.resonance] = cusp
+    for cusp in lowest.values():  # one label each: a resonance's labels would overlap
         ax.annotate(f"{resonance_name(cusp.resonance)}: bistable above\ncusp "
                     f"{cusp.frequency_hz:.1f} Hz, {cusp.pa_frac:.4g} Q",
                     (cusp.frequency_hz, cusp.pa_frac), fontsize=7, textcoords="offset points",

@@ -37,7 +37,8 @@ __all__ = ["compiled_kernels", "kernels_built", "acceleration_source", "cache_di
 _TEMPLATE = Path(__file__).with_name("_kernel_template.py")
 #: The compiled sweep, appended after the kernels (it reads _steady's constants).
 _SWEEP_TEMPLATE = Path(__file__).with_name("_sweep_template.py")
-#: The files whose text shapes a kernel module (a change to one generates it again).
+#: The files whose code shapes a kernel module (a change to it generates the module again;
+#: an edit of a comment or docstring does not: ``cache_key``).
 _SOURCES = (*MODEL_SOURCES, Path(__file__), _TEMPLATE, _SWEEP_TEMPLATE,
             Path(__file__).with_name("_steady.py"),
             # the sweep template freezes common.Status's values into the machine code
@@ -162,7 +163,7 @@ def _module_source(model: ContactModel) -> str:
 
 def _cache_key(model: ContactModel) -> str:
     """A key for the model's kernels that needs no sympy: the parameters and effects,
-    sympy's release, and the text of every file that shapes the generated source."""
+    sympy's release, and the code of every file that shapes the generated source."""
     return cache_key((model.parameters, model.effects), _SOURCES)
 
 

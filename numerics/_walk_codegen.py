@@ -7,7 +7,7 @@ once by hand, 2026-11-24, against 4.6 s).
 
 It is a module of its own, not a part of the kernels' module, so that changing the
 walk compiles the walk again, not every kernel. Its key is the kernels' key with the
-text of the template and of this file.
+code of the template and of this file.
 """
 
 from __future__ import annotations

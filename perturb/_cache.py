@@ -3,8 +3,9 @@
 Deriving the numbers of Eq. 2.6 and generating the simulator's kernels takes
 sympy, and importing sympy alone takes about 0.3 s. Both depend only on the
 model (its parameters; the kernels also on its effects) and on the source files
-that shape them, so each is written once under a key made of exactly those:
-a process that finds them never imports sympy. The files sit in one folder,
+that shape them, so each is written once under a key made of exactly those (the
+files' code: an edit of a comment or a docstring changes no key): a process that
+finds them never imports sympy. The files sit in one folder,
 
     $CONTACT_RESONANCES_CACHE/kernels   or   ~/.cache/contact-resonances/kernels
 
@@ -25,6 +26,7 @@ costs the time to derive and compile again.
 
 from __future__ import annotations
 
+import ast
 import atexit
 import hashlib
 import importlib.util
@@ -47,7 +49,7 @@ __all__ = ["CacheWarning", "cache_dir", "usable_cache_dir", "cache_key", "write_
 #: The files of ``perturb`` that shape everything derived from the model.
 MODEL_SOURCES = tuple(Path(__file__).with_name(name) for name in
                       ("_model.py", "_effects.py", "_parameters.py", "_symbols.py", "_cache.py"))
-#: The files whose text shapes the series' formulas (``perturb._compiled``) and the
+#: The files whose code shapes the series' formulas (``perturb._compiled``) and the
 #: response kernels generated from them (``perturb._response_codegen``).
 SERIES_SOURCES = (*MODEL_SOURCES, *(Path(__file__).with_name(name) for name in (
     "_lindstedt.py", "_harmonics.py", "_series_symbols.py", "_compiled.py", "_eq26.py")))
@@ -129,10 +131,24 @@ def _sympy_release() -> str:
 
 
 def cache_key(values: object, sources: Iterable[Path]) -> str:
-    """16 hex digits of the SHA-256 of ``repr(values)``, the sympy release and the text
-    of ``sources``: a change to any of them gives a new key (old files are left)."""
-    text = repr(values) + _sympy_release() + "".join(Path(p).read_text() for p in sources)
+    """16 hex digits of the SHA-256 of ``repr(values)``, the sympy release and the code
+    of ``sources`` (``code_of``): a change to any of them gives a new key (old files are
+    left); an edit of a comment, a docstring or the layout gives none."""
+    text = repr(values) + _sympy_release() + "".join(code_of(Path(p)) for p in sources)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def code_of(path: Path) -> str:
+    """The code of a Python file, without what compiles to nothing: its syntax tree
+    (comments and layout are not in it) with every docstring dropped, as text."""
+    tree = ast.parse(path.read_text(), filename=str(path))
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
+            body = node.body
+            if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) \
+                    and isinstance(body[0].value.value, str):
+                node.body = body[1:] or [ast.Pass()]
+    return ast.dump(tree)
 
 
 def _checksum(body: str) -> str:

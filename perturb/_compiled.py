@@ -10,7 +10,7 @@ Deriving and lambdifying orders 0 to 10 takes 0.4-0.7 s, every process (measured
 2026-11-23; against about 0.03 s to import them from the disk). The
 lambdified code is plain arithmetic, so each order's formulas are also written
 to the cache on disk (``perturb._cache``) as a Python module, ``formulas_KEY.py``,
-under a key made of the order and the text of every file that shapes them
+under a key made of the order and the code of every file that shapes them
 (``SERIES_SOURCES``); a later process imports that instead of deriving.
 
 Examples

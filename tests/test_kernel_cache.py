@@ -317,3 +317,28 @@ def test_a_failed_write_leaves_no_temporary_file(tmp_path, monkeypatch):
     with pytest.raises(OSError, match="No space"):
         _cache.write_atomically(path, "new text")
     assert [p.name for p in tmp_path.iterdir()] == [path.name] and path.read_text() == "old"
+
+
+def test_a_comment_or_docstring_edit_keeps_every_key_and_a_code_edit_changes_it(
+        monkeypatch, tmp_path):
+    # The kernels' and the series' keys hash the code of their sources, not their text:
+    # editing a comment, a docstring or the layout of any of them rebuilds nothing; a
+    # change of one constant rebuilds.
+    copies = {}
+    for path in _codegen._SOURCES:
+        copy = tmp_path / path.parent.name / path.name
+        copy.parent.mkdir(exist_ok=True)
+        copy.write_text(path.read_text())
+        copies[path] = copy
+    sources = tuple(copies.values())
+    before = _cache.cache_key("values", sources)
+    template = copies[_codegen._TEMPLATE]
+    text = template.read_text()
+    edited = text.replace('"""The batched RK4 kernels, as a template.',
+                          '"""The batched RK4 kernels, as a template (edited).', 1)
+    edited = edited.replace("import math\n", "import math  # a comment\n\n", 1)
+    assert edited.count("(edited)") == 1 and "# a comment" in edited
+    template.write_text(edited)
+    assert _cache.cache_key("values", sources) == before
+    template.write_text(edited.replace("MAX_SWITCHES = 16", "MAX_SWITCHES = 17", 1))
+    assert _cache.cache_key("values", sources) != before

@@ -5,7 +5,7 @@ scene asks for; see ``simulate``. Every result object keeps the contract of
 ``common.Result`` (its model and settings, strict JSON, ``load``).
 """
 
-from common import Status, lazy_names, load
+from perturb.common import Status, lazy_names, load
 
 # Every name is imported at first use (PEP 562), so that a command loads only what
 # it runs: scipy.optimize (the backbone), sympy (what derives) and the scenes stay

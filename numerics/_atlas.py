@@ -29,7 +29,8 @@ from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
 
-from common import (
+from perturb import ContactModel, eq26_numbers
+from perturb.common import (
     Result,
     Status,
     check_int,
@@ -40,7 +41,6 @@ from common import (
     result,
     tied_to_this_process,
 )
-from perturb import ContactModel, eq26_numbers
 
 from ._attractors import (
     LYAPUNOV_PERIODS,

@@ -11,8 +11,16 @@ import time
 
 import numpy as np
 
-from common import Result, Status, check_keys, check_positive, finite_array, lane_array, result
 from perturb import ContactModel, eq26_numbers
+from perturb.common import (
+    Result,
+    Status,
+    check_keys,
+    check_positive,
+    finite_array,
+    lane_array,
+    result,
+)
 
 from ._lyapunov import DEFAULTS as LYAPUNOV_DEFAULTS
 from ._lyapunov import LyapunovExponents, _check_run, largest_lyapunov

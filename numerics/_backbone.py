@@ -33,8 +33,8 @@ import time
 import numpy as np
 from scipy.optimize import brentq
 
-from common import Result, check_int, check_pair, lane_array, result
 from perturb import ContactModel
+from perturb.common import Result, check_int, check_pair, lane_array, result
 
 from . import _chebyshev as cheb
 from ._restoring import Restoring, restoring_force

@@ -20,8 +20,8 @@ import time
 
 import numpy as np
 
-from common import Status
 from perturb import ContactModel
+from perturb.common import Status
 
 from ._continuation import (
     PERIODS_TRIED,

@@ -42,7 +42,7 @@ _SWEEP_TEMPLATE = Path(__file__).with_name("_sweep_template.py")
 _SOURCES = (*MODEL_SOURCES, Path(__file__), _TEMPLATE, _SWEEP_TEMPLATE,
             Path(__file__).with_name("_steady.py"),
             # the sweep template freezes common.Status's values into the machine code
-            Path(__file__).parents[1] / "common" / "_status.py")
+            Path(__file__).parents[1] / "perturb" / "common" / "_status.py")
 _LOADED: dict[tuple, ModuleType] = {}
 _LOCK = threading.Lock()
 
@@ -130,11 +130,16 @@ def acceleration_source(model: ContactModel) -> str:
     guard = lambda e: _guard_contact_branch(e, symbols.y)  # noqa: E731
     switches = accel.has(sp.Piecewise)
     sides = []
+    # The contact side's law holds y at TINY_Y below it, so its derivative by y is 0
+    # there (and not the law's, which is infinite at y = 0 where l < 1).
+    held = sp.Piecewise((1, symbols.y > TINY_Y), (0, True)) if switches else 1
     for contact, side in ((True, "contact"), (False, "flight")):
         law = lambda e: _one_side(e, symbols.y, contact) if switches else guard(e)  # noqa: E731,B023
+        by_y, by_v, by_force = map(law, partials)
         sides.append(_lambdified_source(f"acceleration_{side}", law(accel), model)
                      + _lambdified_source(f"acceleration_partials_{side}",
-                                          tuple(map(law, partials)), model))
+                                          (by_y * held if contact else by_y, by_v, by_force),
+                                          model))
     # lambdify's "math" namespace: its source names math functions unqualified.
     return (
         f"from math import *  # noqa: F403\n\n# Eq. 2.4 for {model!r}\n"
@@ -208,9 +213,9 @@ def forget_sweep_driver(model: ContactModel) -> None:
 
 
 #: The kernels compiled when the module is first loaded; the others (the Lyapunov
-#: exponent's, some 1 s to compile of a model's 7.7 s, 2026-11-23, and continuation's
-#: ``shoot_jacobian``) at their first call, which a run that meets no lane that never
-#: settles and continues nothing (`make paper`) does not make.
+#: exponent's and continuation's ``shoot_jacobian``, a few seconds of a model's some
+#: 20 s) at their first call, which a run that meets no lane that never settles and
+#: continues nothing (`make paper`) does not make.
 EAGER_KERNELS = ("advance_periods", "record_periods", "shoot_periods", "strobe_periods",
                  "acceleration_batch")
 

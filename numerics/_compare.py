@@ -12,7 +12,10 @@ from dataclasses import asdict
 
 import numpy as np
 
-from common import (
+from perturb import PAPER, PAPER_BAND_HZ, ContactModel, ContactParameters, frequency_response
+from perturb._slow_orders import check_slow_order
+from perturb._truncation import truncation_for, truncation_settings
+from perturb.common import (
     Result,
     check_int,
     check_positive,
@@ -21,9 +24,6 @@ from common import (
     progress,
     result,
 )
-from perturb import PAPER, PAPER_BAND_HZ, ContactModel, ContactParameters, frequency_response
-from perturb._slow_orders import check_slow_order
-from perturb._truncation import truncation_for, truncation_settings
 
 from ._compare_backbone import BackboneComparison, compare_backbones
 from ._compare_response import (

@@ -17,9 +17,9 @@ import time
 
 import numpy as np
 
-from common import Result, check_int, check_positive, result
 from perturb import ContactModel, backbone_series, eq26_numbers
 from perturb._truncation import truncation_settings
+from perturb.common import Result, check_int, check_positive, result
 
 from ._backbone import exact_backbone
 

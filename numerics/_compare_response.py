@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from common import Result, check_choice, result
 from perturb import (
     EQ_2_6,
     FULL,
@@ -24,6 +23,7 @@ from perturb import (
     eq26_numbers,
     frequency_response,
 )
+from perturb.common import Result, check_choice, result
 
 from ._orbits import Orbits
 from ._steady import steady_states

@@ -47,8 +47,8 @@ import numpy as np
 from scipy.optimize import brentq
 from scipy.signal import find_peaks
 
-from common import Result, Status, check_choice, check_int, check_positive, progress, result
 from perturb import ContactModel, eq26_numbers
+from perturb.common import Result, Status, check_choice, check_int, check_positive, progress, result
 
 from ._continuation_map import PeriodMap, Point, floquet_multipliers
 from ._lanes import Lanes

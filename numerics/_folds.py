@@ -51,8 +51,8 @@ from collections.abc import Sequence
 import numpy as np
 from scipy.optimize import brentq
 
-from common import Result, Status, check_positive, progress, result
 from perturb import ContactModel
+from perturb.common import Result, Status, check_positive, progress, result
 
 from ._continuation import (
     _DS_MIN,

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import time
 
-from common import Result, check_choice, check_positive, result
 from perturb import ContactModel, eq26_numbers
+from perturb.common import Result, check_choice, check_positive, result
 
 from ._continuation import (
     DEFAULTS,

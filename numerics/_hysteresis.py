@@ -13,9 +13,9 @@ import time
 import numpy as np
 import sympy as sp
 
-from common import Result, check_int, check_positive, result
 from perturb import ContactModel
 from perturb import symbols as sym
+from perturb.common import Result, check_int, check_positive, result
 
 from ._simulate import simulate
 

@@ -331,7 +331,8 @@ def rk4_step_columns(y, v, dt, p_a, c0, ch, c1, dy, dv, dt_seed, p_a_seed):
 # A step across y = 0 integrates straight over the switch of the laws, and RK4 falls to
 # about second order there (first where a law jumps, as the damping of l = 0 does). Such
 # a step is split at the switch: the crossing is bracketed on the step's cubic Hermite
-# interpolant, located by the Illinois method on RK4 sub-steps of the side it starts on
+# interpolant, located by Newton's method (the Illinois method where it would leave the
+# bracket) on RK4 sub-steps of the side it starts on
 # (its own law, extended past y = 0), and the step goes on from it with the other side's
 # law. The step grid per period stays (the phase lock): the drive at a fraction s of step
 # k is cos(pi (2k + 2s) / N), the table's own formula. The derivative of the step (the
@@ -541,6 +542,8 @@ def next_switch(y, v, dt, p_a, k, steps, start, contact):
     that side's law)."""
     law = CONTACT if contact else FLIGHT
     y1, v1 = side_step(y, v, dt, p_a, k, steps, start, 1.0, law)
+    if not (math.isfinite(y1) and math.isfinite(v1)):  # no switch to look for: it fails
+        return -1.0, math.nan, math.nan
     across = first_crossing(y, v, y1, v1, dt * (1.0 - start), contact)
     end = start + across * (1.0 - start)
     y_at = y1
@@ -567,6 +570,8 @@ def split_step(y, v, dt, p_a, k, steps):
         if event == MAX_SWITCHES:
             break
         _y, v_at = side_step(y, v, dt, p_a, k, steps, start, at, CONTACT if contact else FLIGHT)
+        if not math.isfinite(v_at):
+            break
         y, v, start, contact = 0.0, v_at, at, not contact
     return math.nan, math.nan, -1
 
@@ -600,6 +605,8 @@ def event_step(y, v, dt, p_a, k, steps, y_end, v_end, dy, dv, dt_seed, p_a_seed,
         # derivative is 0 and the rest is the saltation matrix's, to the step's last bit.
         _y, v_at = moving_ends_step(y, v, dt, p_a, k, steps, start, at, law, dy, dv, dt_seed,
                                     p_a_seed, moved, True)
+        if not math.isfinite(v_at):
+            break
         y, v, start, contact = 0.0, v_at, at, not contact
     return math.nan, math.nan, -1
 

@@ -14,8 +14,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from common import check_int
 from perturb import ContactModel, eq26_numbers
+from perturb.common import check_int
 
 from ._codegen import compiled_kernels
 

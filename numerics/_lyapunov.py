@@ -29,8 +29,8 @@ from dataclasses import fields
 
 import numpy as np
 
-from common import Result, Status, check_int, lane_array, result
 from perturb import ContactModel, eq26_numbers
+from perturb.common import Result, Status, check_int, lane_array, result
 
 from ._lanes import Lanes
 from ._simulate import check_model, initial_lanes

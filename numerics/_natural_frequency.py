@@ -13,9 +13,9 @@ import time
 import numpy as np
 import sympy as sp
 
-from common import Result, check_int, lane_array, result
 from perturb import PAPER, PAPER_CUBE_SIDE_M, PAPER_F_N0_HZ, ContactModel, ContactParameters, Eq26
 from perturb import symbols as sym
+from perturb.common import Result, check_int, lane_array, result
 
 __all__ = ["HeightSweep", "natural_frequency_vs_height", "steel_density"]
 

@@ -11,7 +11,7 @@ from dataclasses import fields
 
 import numpy as np
 
-from common import Result, Status, result
+from perturb.common import Result, Status, result
 
 __all__ = ["Orbits", "fates"]
 

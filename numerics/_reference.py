@@ -19,8 +19,8 @@ import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from common import check_int, check_positive, check_real
 from perturb import ContactModel, symbols
+from perturb.common import check_int, check_positive, check_real
 
 __all__ = ["reference_last_period"]
 

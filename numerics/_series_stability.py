@@ -25,8 +25,8 @@ import time
 
 import numpy as np
 
-from common import Result, Status, check_int, check_positive, result
 from perturb import ContactModel, Response, eq26_numbers, series_orbits
+from perturb.common import Result, Status, check_int, check_positive, result
 
 from ._continuation_map import NEWTON_TOL
 from ._steady import _SPAN_FLOOR, _Batch, _eigenvalues, _solve_2x2

@@ -6,8 +6,8 @@ import time
 
 import numpy as np
 
-from common import Status, check_choice, check_int, finite_array, lane_array
 from perturb import ContactModel, eq26_numbers
+from perturb.common import Status, check_choice, check_int, finite_array, lane_array
 
 from ._lanes import Lanes
 from ._simulation import Simulation

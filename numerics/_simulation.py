@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from common import Result, Status, result
+from perturb.common import Result, Status, result
 
 __all__ = ["Simulation"]
 

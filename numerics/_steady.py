@@ -20,8 +20,8 @@ import time
 
 import numpy as np
 
-from common import Status, check_choice, check_int, check_positive, lane_array, result
 from perturb import ContactModel, eq26_numbers
+from perturb.common import Status, check_choice, check_int, check_positive, lane_array, result
 
 from ._lanes import Lanes
 from ._orbits import Orbits

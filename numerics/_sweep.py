@@ -18,8 +18,8 @@ import warnings
 
 import numpy as np
 
-from common import Result, Status, check_choice, lane_array, lookup, progress, result
 from perturb import ContactModel, eq26_numbers
+from perturb.common import Result, Status, check_choice, lane_array, lookup, progress, result
 
 from ._codegen import CacheWarning, forget_sweep_driver, sweep_driver_built
 from ._orbits import Orbits, fates

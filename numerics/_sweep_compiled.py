@@ -14,8 +14,8 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from common import Status, check_int, processors
 from perturb import eq26_numbers
+from perturb.common import Status, check_int, processors
 
 from ._codegen import compiled_kernels
 from ._lanes import divergence_limit, drive_table, failure_message

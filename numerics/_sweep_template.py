@@ -23,8 +23,8 @@ import math
 import numba
 import numpy as np
 
-from common import Status
 from numerics import _steady as _st
+from perturb.common import Status
 
 _SUCCESS = int(Status.SUCCESS)
 _NOT_SETTLED = int(Status.NOT_SETTLED)

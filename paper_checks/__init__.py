@@ -7,7 +7,7 @@ DIR/report.json (``make paper``). The paper's figures are scenes,
 study ``work_precision``.
 """
 
-from common import lazy_names
+from perturb.common import lazy_names
 
 # Imported at first use (PEP 562), so that `python -m paper_checks` imports them after
 # it has turned the garbage collector off (paper_checks/__main__.py).

@@ -34,7 +34,7 @@ import atexit  # noqa: E402
 import gc  # noqa: E402
 import sys  # noqa: E402
 
-from common import int_at_least, output_dir, run_command  # noqa: E402
+from perturb.common import int_at_least, output_dir, run_command  # noqa: E402
 
 
 def _kernel_files() -> set[str]:

@@ -14,7 +14,7 @@ import sys
 import traceback
 from collections.abc import Callable
 
-from common import tied_to_this_process
+from perturb.common import tied_to_this_process
 
 __all__ = ["ForkedJobs", "forks"]
 

@@ -7,10 +7,10 @@ import json
 import time
 from pathlib import Path
 
-from common import processors, write_atomically, write_json
 from numerics._compare_table import format_comparison
 from numerics.cli._info import format_info
 from perturb import text_report
+from perturb.common import processors, write_atomically, write_json
 
 from ._claims import Claim
 from ._figures import draw_figures

@@ -36,7 +36,6 @@ from pathlib import Path
 
 import numpy as np
 
-from common import tied_to_this_process
 from numerics import compiled_kernels, steady_states
 from numerics._codegen import kernels_built
 from numerics.scenes import Scene, SceneRun, read_scene, run_scene
@@ -51,6 +50,7 @@ from perturb import (
     eq26_numbers,
 )
 from perturb._compiled import lambdified_series
+from perturb.common import tied_to_this_process
 
 from ._forked import ForkedJobs, forks
 from ._work_precision import ERROR_ORDERS, SERIES_ORDERS, WorkPrecision, scene_methods

@@ -45,12 +45,12 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from common import jsonable
 from numerics import steady_states
 from numerics.scenes import Option, Study, StudyRun, register_study
 from perturb import EQ_2_6, FULL, PAPER, ContactModel, compile_series, frequency_response
 from perturb._compiled import formulas_cached, lambdified_series
 from perturb._truncation import TRUNCATIONS, truncation_for
+from perturb.common import jsonable
 
 __all__ = ["WorkPrecision", "work_precision", "scene_methods", "RK4_POINTS", "SERIES_POINTS"]
 

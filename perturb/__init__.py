@@ -12,7 +12,7 @@ solved for the frequency response (``frequency_response``, whose orbits
 gives the free backbone exactly.
 """
 
-from common import lazy_names
+from perturb.common import lazy_names
 
 # Light names, imported with the package: none of them imports sympy.
 from ._effects import EQ_2_6, FULL, LINEAR, Effects

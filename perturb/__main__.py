@@ -31,7 +31,7 @@ from functools import partial
 
 import numpy as np
 
-from common import (
+from perturb.common import (
     add_allow_slow,
     int_at_least,
     nonnegative_float,

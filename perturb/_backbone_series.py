@@ -40,7 +40,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from common import Result, result
+from perturb.common import Result, result
 
 from ._effects import EQ_2_6
 from ._model import ContactModel

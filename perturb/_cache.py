@@ -40,7 +40,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 from types import ModuleType
 
-from common._files import write_atomically
+from perturb.common._files import write_atomically
 
 __all__ = ["CacheWarning", "cache_dir", "usable_cache_dir", "cache_key", "write_atomically",
            "MODEL_SOURCES", "SERIES_SOURCES", "load_generated", "write_generated", "intact",

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, fields
 
-from common import check_choice, check_int
+from perturb.common import check_choice, check_int
 
 __all__ = ["Effects", "FULL", "EQ_2_6", "LINEAR"]
 

@@ -14,7 +14,7 @@ from functools import lru_cache
 import numpy as np
 import numpy.typing as npt
 
-from common import check_int
+from perturb.common import check_int
 
 from ._parameters import PAPER, ContactParameters
 from ._truncation import Truncation, truncation_for

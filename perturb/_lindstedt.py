@@ -29,7 +29,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from common import check_int
+from perturb.common import check_int
 
 from . import _series_symbols as sym
 from . import _symbols as model_symbols

@@ -13,7 +13,7 @@ from collections.abc import Mapping
 from functools import cache, cached_property, lru_cache
 from typing import TYPE_CHECKING
 
-from common import check_keys
+from perturb.common import check_keys
 
 from ._effects import FULL, Effects
 from ._parameters import PAPER, ContactParameters

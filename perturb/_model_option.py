@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from common import name_value
+from perturb.common import name_value
 
 from ._parameters import parameters_with
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, fields
 
-from common import check_keys, check_positive, check_real
+from perturb.common import check_keys, check_positive, check_real
 
 __all__ = [
     "ContactParameters",

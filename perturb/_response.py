@@ -49,7 +49,15 @@ from functools import partial
 import numpy as np
 import numpy.typing as npt
 
-from common import Result, check_choice, check_int, check_pair, check_positive, lane_array, result
+from perturb.common import (
+    Result,
+    check_choice,
+    check_int,
+    check_pair,
+    check_positive,
+    lane_array,
+    result,
+)
 
 from ._effects import EQ_2_6, FULL
 from ._model import ContactModel

@@ -28,7 +28,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from common import check_int
+from perturb.common import check_int
 
 __all__ = ["c", "h", "G", "omega", "omega0", "Omega", "eps", "t"]
 __all__ += ["amplitude", "phase", "forcing_amplitude", "forcing_phase", "b", "gain", "lag"]

@@ -11,7 +11,7 @@ is only slow.
 
 from __future__ import annotations
 
-from common import check_int
+from perturb.common import check_int
 
 from ._parameters import ContactParameters
 from ._truncation import Truncation, truncation_for

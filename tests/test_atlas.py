@@ -10,9 +10,9 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 
-from common import GLOSSARY, Status, load
 from numerics import Atlas, atlas, attractors
 from numerics import _atlas as atlas_module
+from perturb.common import GLOSSARY, Status, load
 
 #: Three frequencies across the paper's points of multi-stability (490 Hz at 0.5 Q: four
 #: attractors; 740 Hz at 0.15 Q: two) and two amplitudes: six cells, 588 lanes.

@@ -9,12 +9,12 @@ import pytest
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from common import load
 from numerics import Backbone, exact_backbone, simulate
 from numerics._restoring import restoring_force
 from numerics.cli import main
 from perturb import EQ_2_6, ContactModel, ContactParameters, eq26_numbers
 from perturb import symbols as sym
+from perturb.common import load
 
 EXPONENTS = (1.0, 1.5, 2.0, 2.5, 3.0)
 

@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from common import PLOT_FORMATS
 from numerics import cli
+from perturb.common import PLOT_FORMATS
 
 
 def run(*args: str, **kwargs) -> subprocess.CompletedProcess:
@@ -86,7 +86,7 @@ def test_an_unexpected_error_goes_to_a_log_file(monkeypatch, capsys):
     parser = cli.build_parser()
     args = parser.parse_args(["info"])
     monkeypatch.setattr(args, "run", broken)
-    from common import run_command
+    from perturb.common import run_command
 
     assert run_command(args) == 1
     err = capsys.readouterr().err
@@ -104,7 +104,7 @@ def test_bad_input_found_while_working_is_status_2(monkeypatch, capsys):
         raise ValueError("`pa_frac` must be a finite number >= 0, got -1.")
 
     monkeypatch.setattr(args, "run", refuses)
-    from common import run_command
+    from perturb.common import run_command
 
     assert run_command(args) == 2
     assert "error: `pa_frac` must be" in capsys.readouterr().err
@@ -135,7 +135,7 @@ def test_a_link_to_stdout_is_written_as_a_stream(tmp_path):
 
 
 def test_another_value_error_is_status_1_with_a_log(monkeypatch, capsys):
-    from common import run_command
+    from perturb.common import run_command
 
     args = cli.build_parser().parse_args(["info"])
     monkeypatch.setattr(args, "run", lambda args: np.add(np.ones(2), np.ones(3)))

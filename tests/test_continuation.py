@@ -13,9 +13,9 @@ from functools import partial as _partial
 import numpy as np
 import pytest
 
-from common import Status, load
 from numerics import continue_orbits, simulate, sweep
 from perturb import EQ_2_6, PAPER, ContactModel, eq26_numbers, frequency_response
+from perturb.common import Status, load
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
 frequency_response = _partial(frequency_response, truncation="paper")

@@ -12,8 +12,8 @@ import sys
 import numpy as np
 import pytest
 
-from common import Status, load
 from numerics import FoldCurves, continue_orbits, fold_curves
+from perturb.common import Status, load
 
 #: App of the fold on the curve against continuation's: measured within 2.2e-9 relative at
 #: every level below (App is not stationary at a fold: it carries Brent's 1e-8 in z).

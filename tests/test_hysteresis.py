@@ -6,9 +6,9 @@ import json
 import numpy as np
 import pytest
 
-from common import load
 from numerics import HysteresisLoop, hysteresis_loop, reference_last_period
 from perturb import EQ_2_6, PAPER, PAPER_HYSTERESIS_POINT, ContactModel, eq26_numbers
+from perturb.common import load
 
 # The caption of Fig. 5: f_e = 1600 Hz, P_a = 0.40 Q.
 FIG5 = PAPER_HYSTERESIS_POINT  # (f_e [Hz], P_a / Q)

@@ -8,10 +8,10 @@ import time
 import numpy as np
 import pytest
 
-from common import load
-from common._json import dumps, write_json
 from numerics import sweep
 from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS
+from perturb.common import load
+from perturb.common._json import dumps, write_json
 
 
 def test_non_finite_numbers_are_null_and_the_text_is_strict():

@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from common import load
 from numerics import HeightSweep, natural_frequency_vs_height
 from numerics._natural_frequency import steel_density
 from perturb import PAPER_CUBE_SIDE_M, PAPER_F_N0_HZ, ContactModel, ContactParameters, eq26_numbers
+from perturb.common import load
 
 # The paper's numbers as Section 2 states them, typed here and not imported: a steel
 # cube of 30 mm (width, length and height), M = 0.2106 kg, on S = 30 mm x 30 mm, with

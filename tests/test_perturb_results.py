@@ -1,4 +1,4 @@
-"""perturb's result objects keep the toolkit's contract (common/_results.py).
+"""perturb's result objects keep the toolkit's contract (perturb/common/_results.py).
 
 Strict JSON, a round trip through ``to_json`` and ``common.load``, the model and
 settings as data, a short repr; the model itself and Eq. 2.6's numbers as data;
@@ -18,7 +18,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import common
 from perturb import (
     EQ_2_6,
     PAPER,
@@ -31,6 +30,7 @@ from perturb import (
     Eq26Numbers,
     Response,
     backbone_series,
+    common,
     eq26_numbers,
     frequency_response,
 )

@@ -14,7 +14,6 @@ from functools import partial as _partial
 import numpy as np
 import pytest
 
-from common import GLOSSARY, RESULT_CLASSES, Result, glossary_table, load
 from numerics import (
     atlas,
     attractors,
@@ -33,6 +32,7 @@ from numerics import (
 )
 from numerics.scenes import parse_scene, run_scene
 from perturb import PAPER, backbone_series, frequency_response
+from perturb.common import GLOSSARY, RESULT_CLASSES, Result, glossary_table, load
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
 frequency_response = _partial(frequency_response, truncation="paper")
@@ -161,8 +161,8 @@ def test_the_readme_shows_the_glossary():
 
     readme = (Path(__file__).parents[1] / "README.md").read_text(encoding="utf-8")
     assert glossary_table() in readme, (
-        "the README's glossary differs from common/_glossary.py: paste the output of "
-        "`python -c 'from common import glossary_table; print(glossary_table())'` "
+        "the README's glossary differs from perturb/common/_glossary.py: paste the output of "
+        "`python -c 'from perturb.common import glossary_table; print(glossary_table())'` "
         "between its <!-- glossary --> marks")
 
 
@@ -170,7 +170,7 @@ def test_every_glossary_row_has_its_four_cells(monkeypatch):
     # A | in a meaning once cut the ds_max row short in the README (a review found it).
     import re
 
-    import common._glossary as glossary
+    import perturb.common._glossary as glossary
 
     monkeypatch.setitem(glossary.GLOSSARY, "piped", ("|z| of a vector", "1", ""))
     for line in glossary_table().splitlines():

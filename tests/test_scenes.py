@@ -8,7 +8,6 @@ from functools import partial as _partial
 import numpy as np
 import pytest
 
-from common import Status, load
 from numerics import attractors, simulate, sweep
 from numerics._attractors import DEFAULT_GRID
 from numerics.scenes import SceneError, parse_scene, read_scene, run_scene
@@ -23,6 +22,7 @@ from perturb import (
     frequency_response,
     parameters_with,
 )
+from perturb.common import Status, load
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
 frequency_response = _partial(frequency_response, truncation="paper")
@@ -724,7 +724,7 @@ def test_an_orbit_scene_writes_the_json_its_command_writes(text, command, tmp_pa
 
 
 def test_every_json_key_of_an_orbit_scene_is_in_the_glossary():
-    from common import GLOSSARY
+    from perturb.common import GLOSSARY
 
     keys = set()
     for text in (_with(CONTINUATION, "switch_branches = true\n"), FOLDS,

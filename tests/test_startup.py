@@ -79,7 +79,7 @@ def test_a_cold_cache_does_import_sympy(tmp_path):
 
 
 def test_importing_the_packages_imports_nothing_heavy():
-    code = ("import sys, perturb, numerics, numerics.cli, common; print(' '.join(m for m in "
+    code = ("import sys, perturb, perturb.common, numerics, numerics.cli; print(' '.join(m for m in "
             "('sympy', 'scipy', 'numba', 'matplotlib', 'tqdm') if m in sys.modules))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True)
@@ -103,7 +103,7 @@ def test_a_result_file_loads_in_a_new_process(tmp_path):
     result = sweep([1300.0, 1400.0], 0.05, direction="up")
     result.to_json(tmp_path / "sweep.json")
     result.runs[0].to_json(tmp_path / "run.json")
-    code = ("import sys, common\nfor path in sys.argv[1:]:\n"
+    code = ("import sys\nfrom perturb import common\nfor path in sys.argv[1:]:\n"
             "    print(type(common.load(path)).__name__)")
     done = subprocess.run([sys.executable, "-c", code, str(tmp_path / "sweep.json"),
                            str(tmp_path / "run.json")], capture_output=True, text=True,

@@ -8,9 +8,9 @@ import sys
 import numpy as np
 import pytest
 
-from common import Status
 from numerics import sweep
 from perturb import EQ_2_6, PAPER, ContactModel, eq26_numbers
+from perturb.common import Status
 
 
 def test_shooting_sweep_jumps_where_time_marching_jumps():

@@ -16,11 +16,11 @@ import dataclasses
 import numpy as np
 import pytest
 
-from common import Status
 from numerics import sweep
 from numerics._codegen import sweep_driver_built
 from numerics._sweep import _sweep_lanes
 from perturb import EQ_2_6, FULL, PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
+from perturb.common import Status
 
 #: Relative difference of the error estimates: measured at most 5.3e-15 on the Fig. 2 + 3
 #: job, the multipliers' round-off through 1 / (1 - |mu|); 20x that for another LAPACK.

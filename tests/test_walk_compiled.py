@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from common import Status
 from numerics import _codegen, _walk_codegen, continue_orbits
 from numerics._continuation import _band_walk, walk_band
 from numerics._continuation_map import ForceMap, PeriodMap
 from numerics._walk_codegen import compiled_walk
 from perturb import LINEAR, ContactModel, eq26_numbers
 from perturb._cache import intact
+from perturb.common import Status
 
 
 @pytest.fixture(scope="module")

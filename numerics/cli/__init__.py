@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from common import run_command
+from perturb.common import run_command
 
 from ._atlas import add_atlas_parser
 from ._backbone import add_backbone_parser

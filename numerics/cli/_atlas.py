@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from common import int_at_least, nonnegative_float, note, plot_file
 from perturb import PAPER_PANEL_FRACTIONS, ContactModel
 from perturb._model_option import model_parameters
+from perturb.common import int_at_least, nonnegative_float, note, plot_file
 
 from ._errors import option_error
 from ._steady import _accuracy_options, add_band_options, report

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from common import int_at_least, note, output_file, positive_float, write_json
 from perturb._model_option import add_model_option, model_parameters
+from perturb.common import int_at_least, note, output_file, positive_float, write_json
 
 __all__ = ["add_backbone_parser"]
 

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from common import (
+from perturb._model_option import add_model_option, model_parameters
+from perturb._truncation import TRUNCATIONS
+from perturb.common import (
     add_allow_slow,
     add_unchecked,
     int_at_least,
@@ -12,8 +14,6 @@ from common import (
     output_file,
     plot_file,
 )
-from perturb._model_option import add_model_option, model_parameters
-from perturb._truncation import TRUNCATIONS
 
 __all__ = ["add_compare_parser"]
 

@@ -10,10 +10,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from common import int_at_least, nonnegative_float, output_file, plot_file, positive_float
 from perturb import EQ_2_6, FULL, PAPER_BAND_HZ, ContactModel
 from perturb._model_option import add_model_option, model_parameters
 from perturb._truncation import TRUNCATIONS
+from perturb.common import int_at_least, nonnegative_float, output_file, plot_file, positive_float
 
 from ._errors import option_error
 from ._steady import _steps, add_band_options, check_band, report

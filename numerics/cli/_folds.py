@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from common import output_file, plot_file, positive_float
 from perturb import FULL, ContactModel
 from perturb._model_option import add_model_option, model_parameters
+from perturb.common import output_file, plot_file, positive_float
 
 from ._steady import _steps, add_band_options, check_band, report
 

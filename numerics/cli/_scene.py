@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from common import output_dir, output_file
+from perturb.common import output_dir, output_file
 
 __all__ = ["add_scene_parser"]
 

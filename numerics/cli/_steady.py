@@ -6,7 +6,9 @@ import argparse
 
 import numpy as np
 
-from common import (
+from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
+from perturb._model_option import add_model_option, model_parameters
+from perturb.common import (
     add_unchecked,
     int_at_least,
     nonnegative_float,
@@ -15,8 +17,6 @@ from common import (
     plot_file,
     positive_float,
 )
-from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
-from perturb._model_option import add_model_option, model_parameters
 
 from .._attractors import attractors
 from .._steady import DEFAULTS, MAX_STEPS

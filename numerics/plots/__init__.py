@@ -10,7 +10,7 @@ The figures and animations of scenes take plain numpy arrays (SI units) instead:
 ``animate_sweep`` write a GIF and return its path.
 """
 
-from common import lazy_names
+from perturb.common import lazy_names
 
 # Each figure's module is imported at first use (PEP 562): the comparison's and the
 # backbone's figures import the exact backbone (scipy.optimize, sympy), which a scene

@@ -18,7 +18,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.patches import Polygon, Rectangle
 
-from common import check_int, check_positive, check_real, finite_array, replacing
+from perturb.common import check_int, check_positive, check_real, finite_array, replacing
 
 from ._observables import curve_labels, curves, increasing, is_wide, same_lengths
 

@@ -6,7 +6,7 @@ import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.patches import Patch
 
-from common import Status
+from perturb.common import Status
 
 from ._figure import finish, new_figure
 

@@ -11,7 +11,7 @@ from matplotlib.figure import Figure
 from matplotlib.mathtext import MathTextParser
 from matplotlib.ticker import Locator
 
-from common import replacing
+from perturb.common import replacing
 
 __all__ = ["new_figure", "finish", "panel_title", "fixed_layout", "DPI", "EDGE_PAD_IN"]
 

@@ -15,7 +15,7 @@ from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from common import check_positive, finite_array
+from perturb.common import check_positive, finite_array
 
 from ._figure import finish, new_figure
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from common import write_atomically
+from perturb.common import write_atomically
 
 from ._observables import HARMONICS_OF_F_E, replay
 from ._schema import Scene

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from common import Result, from_dict, result
+from perturb.common import Result, from_dict, result
 
 __all__ = ["SceneRun"]
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from common import note
 from perturb import FULL
+from perturb.common import note
 
 from ._auto import select_effects
 from ._observables import observe

@@ -28,8 +28,8 @@ import time
 
 import numpy as np
 
-from common import Status
 from perturb import FULL, eq26_numbers, frequency_response
+from perturb.common import Status
 
 from .._orbits import Orbits
 from .._steady import DEFAULTS

@@ -21,8 +21,8 @@ import time
 
 import numpy as np
 
-from common import processors
 from numerics import _atlas, atlas, attractors
+from perturb.common import processors
 
 from ._timing import header, median_time, row
 

@@ -33,7 +33,7 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "G_per_P_a": ("G / P_a = 1 / M", "1/kg", "Eq. 2.6"),
     # -- a lane's state and fate
     "status": ("the lane's fate: -1 failed, 0 success (ran to the end; settled), 1 not "
-               "settled, 2 under-resolved (`common.Status`)", "", ""),
+               "settled, 2 under-resolved (`perturb.common.Status`)", "", ""),
     "message": ("why a lane has its status (empty when it succeeded)", "", ""),
     "settled": ("status is success: the stroboscopic state repeated within `tol` "
                 "(derived from `status`)", "", "Section 2, end"),

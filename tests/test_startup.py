@@ -79,8 +79,9 @@ def test_a_cold_cache_does_import_sympy(tmp_path):
 
 
 def test_importing_the_packages_imports_nothing_heavy():
-    code = ("import sys, perturb, perturb.common, numerics, numerics.cli; print(' '.join(m for m in "
-            "('sympy', 'scipy', 'numba', 'matplotlib', 'tqdm') if m in sys.modules))")
+    code = ("import sys, perturb, perturb.common, numerics, numerics.cli; "
+            "print(' '.join(m for m in ('sympy', 'scipy', 'numba', 'matplotlib', 'tqdm') "
+            "if m in sys.modules))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True)
     assert done.stdout.split() == []

@@ -105,18 +105,15 @@ def _run(tree: Path, cache: Path, snippet: str, *args: str) -> list:
 def _bouncing_starts() -> list[tuple]:
     """For each of CONTACTS: (m2, l, f_e, y, v, y_ref), a state on its bouncing orbit (60
     periods from a flight 2 um up, at 4096 steps) and DOP853's y after 3 periods."""
-    from numerics import simulate
     from numerics._reference import reference_last_period
     from perturb import PAPER, ContactModel
-    from tests.test_events import contact
+    from tests.test_events import _bouncing_start, contact
 
     starts = []
     for _, m2, l, f_e in CONTACTS:
         model = ContactModel(contact(m2, l))
         p_a = 0.5 * PAPER.Q_n
-        start = simulate(f_e, p_a, periods=60, steps_per_period=4096, model=model,
-                         y_init_m=-2e-6, record=("final",))
-        y, v = float(start.y_final_m[0]), float(start.v_final_m_s[0])
+        y, v = _bouncing_start(model, f_e, p_a)
         _, reference = reference_last_period(model, f_e, p_a, y, v, 3, rtol=1e-13, samples=2)
         starts.append((m2, l, f_e, y, v, float(reference[-1])))
     return starts

@@ -38,7 +38,7 @@ from perturb.common import int_at_least, output_dir, run_command  # noqa: E402
 
 
 def _kernel_files() -> set[str]:
-    from numerics._codegen import cache_dir
+    from numerics.kernels.codegen import cache_dir
 
     return {p.name for p in cache_dir().glob("kernel_*.py")}
 

@@ -7,8 +7,8 @@ import json
 import time
 from pathlib import Path
 
-from numerics._compare_table import format_comparison
 from numerics.cli._info import format_info
+from numerics.comparison.table import format_comparison
 from perturb import text_report
 from perturb.common import processors, write_atomically, write_json
 

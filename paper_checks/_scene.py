@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from numerics import compiled_kernels, steady_states
-from numerics._codegen import kernels_built
+from numerics.kernels.codegen import kernels_built
 from numerics.scenes import Scene, SceneRun, read_scene, run_scene
 from perturb import (
     EQ_2_6,
@@ -49,8 +49,8 @@ from perturb import (
     derive,
     eq26_numbers,
 )
-from perturb._compiled import lambdified_series
 from perturb.common import tied_to_this_process
+from perturb.series.compiled import lambdified_series
 
 from ._forked import ForkedJobs, forks
 from ._work_precision import ERROR_ORDERS, SERIES_ORDERS, WorkPrecision, scene_methods

@@ -48,9 +48,9 @@ import numpy as np
 from numerics import steady_states
 from numerics.scenes import Option, Study, StudyRun, register_study
 from perturb import EQ_2_6, FULL, PAPER, ContactModel, compile_series, frequency_response
-from perturb._compiled import formulas_cached, lambdified_series
-from perturb._truncation import TRUNCATIONS, truncation_for
 from perturb.common import jsonable
+from perturb.series.compiled import formulas_cached, lambdified_series
+from perturb.series.truncation import TRUNCATIONS, truncation_for
 
 __all__ = ["WorkPrecision", "work_precision", "scene_methods", "RK4_POINTS", "SERIES_POINTS"]
 

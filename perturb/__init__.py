@@ -14,11 +14,12 @@ gives the free backbone exactly.
 
 from perturb.common import lazy_names
 
+from .model.contact_model import ContactModel
+
 # Light names, imported with the package: none of them imports sympy.
-from ._effects import EQ_2_6, FULL, LINEAR, Effects
-from ._model import ContactModel
-from ._numbers import Eq26Numbers, eq26_numbers
-from ._parameters import (
+from .model.effects import EQ_2_6, FULL, LINEAR, Effects
+from .model.numbers import Eq26Numbers, eq26_numbers
+from .model.parameters import (
     PAPER,
     PAPER_BAND_HZ,
     PAPER_COEXISTENCE,
@@ -33,28 +34,28 @@ from ._parameters import (
 # The symbolic names, imported at first use (PEP 562): sympy takes 0.3 s to import,
 # and a command whose numbers and kernels are cached needs none of them.
 _LAZY = {
-    "series_symbols": ("._series_symbols", None),
-    "symbols": ("._symbols", None),
-    "BackboneSeries": ("._backbone_series", "BackboneSeries"),
-    "backbone_series": ("._backbone_series", "backbone_series"),
-    "CompiledSeries": ("._compiled", "CompiledSeries"),
-    "compile_series": ("._formulas", "compile_series"),
-    "derivation_latex": ("._derivation", "derivation_latex"),
-    "derivation_text": ("._derivation", "derivation_text"),
-    "Eq26": ("._eq26", "Eq26"),
-    "Series": ("._lindstedt", "Series"),
-    "derive": ("._lindstedt", "derive"),
-    "PAPER_DIFFERENCES": ("._paper_names", "PAPER_DIFFERENCES"),
-    "PAPER_NAMES": ("._paper_names", "PAPER_NAMES"),
-    "paper_names": ("._paper_names", "paper_names"),
-    "latex_report": ("._printing", "latex_report"),
-    "series_json": ("._printing", "series_json"),
-    "text_report": ("._printing", "text_report"),
-    "Branch": ("._response", "Branch"),
-    "Response": ("._response", "Response"),
-    "frequency_response": ("._response", "frequency_response"),
-    "SeriesOrbits": ("._series_orbit", "SeriesOrbits"),
-    "series_orbits": ("._series_orbit", "series_orbits"),
+    "series_symbols": (".series.series_symbols", None),
+    "symbols": (".model.symbols", None),
+    "BackboneSeries": (".series.free_backbone", "BackboneSeries"),
+    "backbone_series": (".series.free_backbone", "backbone_series"),
+    "CompiledSeries": (".series.compiled", "CompiledSeries"),
+    "compile_series": (".series.formulas", "compile_series"),
+    "derivation_latex": (".printing.derivation", "derivation_latex"),
+    "derivation_text": (".printing.derivation", "derivation_text"),
+    "Eq26": (".model.eq26", "Eq26"),
+    "Series": (".series.lindstedt", "Series"),
+    "derive": (".series.lindstedt", "derive"),
+    "PAPER_DIFFERENCES": (".printing.names", "PAPER_DIFFERENCES"),
+    "PAPER_NAMES": (".printing.names", "PAPER_NAMES"),
+    "paper_names": (".printing.names", "paper_names"),
+    "latex_report": (".printing.report", "latex_report"),
+    "series_json": (".printing.report", "series_json"),
+    "text_report": (".printing.report", "text_report"),
+    "Branch": (".response.frequency", "Branch"),
+    "Response": (".response.frequency", "Response"),
+    "frequency_response": (".response.frequency", "frequency_response"),
+    "SeriesOrbits": (".response.orbit", "SeriesOrbits"),
+    "series_orbits": (".response.orbit", "series_orbits"),
 }
 
 

@@ -44,19 +44,19 @@ from perturb.common import (
     write_json,
 )
 
-from ._model_option import add_model_option, model_parameters
-from ._parameters import PAPER_BAND_HZ
-from ._response import MAX_FREQUENCIES, frequency_response
-from ._slow_orders import check_slow_order
-from ._truncation import TRUNCATIONS
+from .model.parameters import PAPER_BAND_HZ
+from .model.set_option import add_model_option, model_parameters
+from .response.frequency import MAX_FREQUENCIES, frequency_response
+from .series.slow_orders import check_slow_order
+from .series.truncation import TRUNCATIONS
 
 # derive and backbone import sympy in their commands: `response` with its order's
 # kernels built needs none of it.
 
 def _derive(args: argparse.Namespace) -> None:
-    from ._derivation import derivation_latex, derivation_text
-    from ._lindstedt import derive
-    from ._printing import latex_report, series_json, text_report
+    from .printing.derivation import derivation_latex, derivation_text
+    from .printing.report import latex_report, series_json, text_report
+    from .series.lindstedt import derive
 
     stages = []  # (stage, seconds): every stage that ran, timed on its own
 
@@ -69,7 +69,7 @@ def _derive(args: argparse.Namespace) -> None:
     parameters = model_parameters(args)
     # The derivation study is the paper's (Eq. 2.6 in its names) unless told otherwise.
     truncation = args.truncation or ("paper" if args.steps else "consistent")
-    # Derived, simplified and printed: the "derive" limits (``_slow_orders``).
+    # Derived, simplified and printed: the "derive" limits (``series.slow_orders``).
     check_slow_order(args.order, "derive", truncation, parameters, allow_slow=args.allow_slow)
     series = timed("derivation", lambda: derive(args.order, truncation, parameters))
     bar = progress(args.order + 1, "closed forms and text, order by order", quiet=args.quiet)
@@ -89,7 +89,7 @@ def _derive(args: argparse.Namespace) -> None:
 
 
 def _backbone(args: argparse.Namespace) -> None:
-    from ._backbone_series import backbone_series
+    from .series.free_backbone import backbone_series
 
     series = backbone_series(args.order, args.truncation, model_parameters(args),
                              allow_slow=args.allow_slow)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from numerics import Atlas, atlas, attractors
-from numerics import _atlas as atlas_module
+from numerics.steady import multistability as atlas_module
 from perturb.common import GLOSSARY, Status, load
 
 #: Three frequencies across the paper's points of multi-stability (490 Hz at 0.5 Q: four
@@ -314,13 +314,13 @@ def test_the_atlas_survives_a_lost_worker(monkeypatch, tmp_path):
     # The first task to start kills its own worker process (a marker file, created once,
     # says which): the pool breaks, the tasks lost with it run again on a fresh pool,
     # and the atlas is the undisturbed one, cell for cell, saying how many ran again.
-    from numerics import _atlas
+    from numerics.steady import multistability
 
     args = (400.0, 800.0, 0.1, 0.5)
     undisturbed = atlas(*args, grid=(12, 6), workers=2)
     monkeypatch.setitem(_KILL, "marker", tmp_path / "killed")
-    monkeypatch.setitem(_KILL, "run_task", _atlas._run_task)
-    monkeypatch.setattr(_atlas, "_run_task", _killed_once)  # forked workers inherit it
+    monkeypatch.setitem(_KILL, "run_task", multistability._run_task)
+    monkeypatch.setattr(multistability, "_run_task", _killed_once)  # forked workers inherit it
     disturbed = atlas(*args, grid=(12, 6), workers=2)
     assert (tmp_path / "killed").exists() and disturbed.settings["tasks_retried"] >= 1
     assert "run again after a worker was lost" in disturbed.summary()

@@ -10,7 +10,7 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 
 from numerics import Backbone, exact_backbone, simulate
-from numerics._restoring import restoring_force
+from numerics.backbone.restoring import restoring_force
 from numerics.cli import main
 from perturb import EQ_2_6, ContactModel, ContactParameters, eq26_numbers
 from perturb import symbols as sym
@@ -311,10 +311,10 @@ def test_a_backbone_in_chunks_is_the_backbone_at_once(monkeypatch):
     # Levels are integrated 10,000 at a time so that memory stays bounded (some 400 MB at
     # the most levels, 100,000, measured): the same numbers, to round-off (vector lengths
     # change the last bit of 2 % of them, measured).
-    from numerics import _backbone
+    from numerics.backbone import exact
 
     chunked = exact_backbone(app_range_m=(1e-9, 2e-5), points=2_500)
-    monkeypatch.setattr(_backbone, "_LEVELS_PER_CHUNK", 1_000)
+    monkeypatch.setattr(exact, "_LEVELS_PER_CHUNK", 1_000)
     smaller = exact_backbone(app_range_m=(1e-9, 2e-5), points=2_500)
     for name in ("frequency_hz", "app_m", "a1_m", "ymin_m"):
         np.testing.assert_allclose(getattr(chunked, name), getattr(smaller, name), rtol=1e-14)

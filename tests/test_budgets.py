@@ -20,13 +20,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from numerics import cli
-from numerics._atlas import MAX_LANES
-from numerics._backbone import MAX_POINTS
-from numerics._steady import MAX_STEPS
-from numerics._sweep import MAX_STATES
+from numerics.backbone.exact import MAX_POINTS
 from numerics.cli._steady import MAX_STEADY_STEPS
+from numerics.steady.multistability import MAX_LANES
+from numerics.steady.shooting import MAX_STEPS
+from numerics.steady.sweeps import MAX_STATES
 from perturb.__main__ import _parser as perturb_parser
-from perturb._slow_orders import SLOW_ORDERS
+from perturb.series.slow_orders import SLOW_ORDERS
 from tests._peak_memory import BUDGET_BYTES, peak_memory
 
 SIZES = st.integers(1, 10**12)
@@ -73,7 +73,7 @@ def test_an_atlas_is_refused_past_its_lanes_before_any_work(cells):
     (["derive"], 24), (["backbone"], 100),
     (["response", "--pa-frac", "0.05", "--points", "3"], 24)]))
 def test_an_order_past_its_limit_is_refused_before_any_work(order, command):
-    from perturb._slow_orders import check_slow_order
+    from perturb.series.slow_orders import check_slow_order
 
     argv, limit = command
     args = perturb_parser().parse_args([argv[0], "--order", str(order), *argv[1:]])

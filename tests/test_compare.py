@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from numerics import Orbits, Status, compare
-from numerics._compare_backbone import compare_backbones
-from numerics._compare_response import SteadyCurve, compare_response, steady_curve
 from numerics.cli import main
+from numerics.comparison.backbones import compare_backbones
+from numerics.comparison.responses import SteadyCurve, compare_response, steady_curve
 from perturb import frequency_response
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.

@@ -100,10 +100,10 @@ def test_the_015q_branch_passes_the_bouncing_fold_and_holds_every_stable_sweep_s
     # The 5 Hz sweep down (at its own, coarser N) jumps off that branch at 355 Hz: the
     # fold within one grid step of the jump. Every settled sweep state lies on a stable
     # continued branch (the sweep's App tolerance is 0.5 %).
-    from numerics import _continuation
+    from numerics.continuation import walk as walk_module
 
-    made, band_walk = [], _continuation._band_walk
-    monkeypatch.setattr(_continuation, "_band_walk", lambda shoot, *args: made.append(
+    made, band_walk = [], walk_module._band_walk
+    monkeypatch.setattr(walk_module, "_band_walk", lambda shoot, *args: made.append(
         (shoot.steps, args[-1])) or band_walk(shoot, *args))
     run = continue_orbits(0.15, 250.0, 1800.0)
     assert run.settings["steps_per_period"] == 512
@@ -114,7 +114,7 @@ def test_the_015q_branch_passes_the_bouncing_fold_and_holds_every_stable_sweep_s
     # Both folds are located by Brent's method to its xtol, LOCATE_TOL in z: 1e-8 f_n0
     # (1.4856e-5 Hz); the bouncing one's frequency on the maps of 512 and 2048 steps:
     # tests/test_events.py.
-    from numerics._continuation import LOCATE_TOL
+    from numerics.continuation.walk import LOCATE_TOL
 
     f_n0 = eq26_numbers().f_n0_hz
     assert [b.located for b in run.folds()] == [True, True]
@@ -134,19 +134,19 @@ def test_near_the_bouncing_fold_the_walk_gives_up_stalled_newtons_and_creeping_s
     # Regression, for the continuation's speed goal. Near the bouncing fold at 0.15 Q the map's
     # corners made Newton stall (all 12 iterations and their line searches, then a failed
     # step) and the steps creep towards corners where the branch turns back, ever shorter,
-    # down to 1e-9. The contraction test (_continuation_map._CONTRACTION) and the stall
-    # hand-over to a step in f alone (_continuation._STALL_DS) took the Python walk at
+    # down to 1e-9. The contraction test (period_map._CONTRACTION) and the stall
+    # hand-over to a step in f alone (walk._STALL_DS) took the Python walk at
     # N = 1024 from 37,603 evaluations of R to 17,629, with the same folds; with the
-    # shrink by the turn (_continuation._TURN_SHARE), 35,132 without them and 17,409 with
-    # them; with Newton's stop by estimate (_continuation_map.near_enough) and steps past
-    # ds_max on the bouncing arcs (_continuation.largest_step), 9,822; with the corner's
-    # step grown with the orbit's size as the largest step is (_continuation.corner_step)
-    # and a step that fails below it shrunk by 4 (_continuation._CORNER_SHRINK), 6,553;
+    # shrink by the turn (walk._TURN_SHARE), 35,132 without them and 17,409 with
+    # them; with Newton's stop by estimate (period_map.near_enough) and steps past
+    # ds_max on the bouncing arcs (walk.largest_step), 9,822; with the corner's
+    # step grown with the orbit's size as the largest step is (walk.corner_step)
+    # and a step that fails below it shrunk by 4 (walk._CORNER_SHRINK), 6,553;
     # with each contact switch located within its step (a map smooth between switches,
     # with no corners), 2,584 (measured).
     from unittest import mock
 
-    from numerics._continuation_map import PeriodMap
+    from numerics.continuation.period_map import PeriodMap
 
     with mock.patch.object(PeriodMap, "residual", autospec=True,
                            side_effect=PeriodMap.residual) as spy:
@@ -158,7 +158,7 @@ def test_near_the_bouncing_fold_the_walk_gives_up_stalled_newtons_and_creeping_s
 
 def test_newtons_stop_by_estimate_keeps_the_walk_on_the_branch(monkeypatch):
     # The walk's arclength steps stop Newton once the steps still to come, at the rate of
-    # the last two, add up to less than NEWTON_TOL (_continuation_map.near_enough): that
+    # the last two, add up to less than NEWTON_TOL (period_map.near_enough): that
     # saves the evaluation of R which would only show the next step below it. Route 2, the
     # exact test alone: at 0.05 Q the same 120 points, stability and folds (measured
     # within 1.8e-12 Hz; the points themselves lie up to 6e-8 apart along the branch, as
@@ -166,12 +166,12 @@ def test_newtons_stop_by_estimate_keeps_the_walk_on_the_branch(monkeypatch):
     # against 347 (Python walk).
     from unittest import mock
 
-    from numerics import _continuation_map
-    from numerics._continuation_map import PeriodMap
+    from numerics.continuation import period_map
+    from numerics.continuation.period_map import PeriodMap
 
     runs, calls = {}, {}
     for estimated in (True, False):
-        monkeypatch.setattr(_continuation_map, "_ESTIMATED", estimated)
+        monkeypatch.setattr(period_map, "_ESTIMATED", estimated)
         with mock.patch.object(PeriodMap, "residual", autospec=True,
                                side_effect=PeriodMap.residual) as spy:
             runs[estimated] = continue_orbits(0.05, 1300.0, 1600.0, engine="python")
@@ -189,7 +189,7 @@ def test_every_point_of_the_015q_branch_is_a_root_of_the_shooting_residual(branc
     # exact test did: |R| in z at most 4.9e-13 over the 1971 points (measured; 5.5e-13
     # over the 2493 points before ``corner_step``, 6.0e-13
     # with the exact test alone, the round-off of one period of RK4 being some 1e-13).
-    from numerics._continuation_map import PeriodMap
+    from numerics.continuation.period_map import PeriodMap
 
     model = ContactModel()
     shoot = PeriodMap(model, 0.15 * model.parameters.Q_n,
@@ -201,7 +201,7 @@ def test_every_point_of_the_015q_branch_is_a_root_of_the_shooting_residual(branc
 
 
 def test_steps_grow_past_ds_max_only_where_large_orbits_run_straight(branch_015, band_005):
-    # _continuation.largest_step: where the tangent turns little, a step may be ds_max
+    # walk.largest_step: where the tangent turns little, a step may be ds_max
     # times the orbit's size |(y, v)| in z over 2 (a bouncing orbit), up to 20 ds_max.
     # Measured: at 0.15 Q the longest step, 0.23 in z (11.5 ds_max), on an orbit of
     # |(y, v)| = 25; at 0.05 Q, where every orbit stays in contact, none past ds_max (a
@@ -347,16 +347,16 @@ def test_a_walk_at_its_most_points_stays_near_a_fifth_of_a_gigabyte(monkeypatch)
     import gc
     import tracemalloc
 
-    from numerics import _continuation
-    from numerics._continuation import MAX_WALK_POINTS
+    from numerics.continuation import walk as walk_module
+    from numerics.continuation.walk import MAX_WALK_POINTS
 
-    walks, init = [], _continuation._Walk.__init__
+    walks, init = [], walk_module._Walk.__init__
 
     def keep(self, *args, **kwargs):
         init(self, *args, **kwargs)
         walks.append(self)
 
-    monkeypatch.setattr(_continuation._Walk, "__init__", keep)
+    monkeypatch.setattr(walk_module._Walk, "__init__", keep)
     continue_orbits(0.15, 250.0, 1800.0)  # the kernels loaded before the count
     walks.clear()
     gc.collect()
@@ -392,7 +392,7 @@ def test_the_down_walks_marks_stay_on_its_own_branch():
     # pointed into the other branch or past the end.
     from types import SimpleNamespace
 
-    from numerics._continuation import _join, _Mark
+    from numerics.continuation.walk import _join, _Mark
 
     def walk(f0, df, n, marks, sign):
         return SimpleNamespace(points=[SimpleNamespace(z=np.array([0.0, 0.0, f0 + df * i]))
@@ -784,7 +784,7 @@ def test_continued_in_force_the_period_doubling_is_where_continuation_in_f_has_i
     # its parameter (LOCATE_TOL), and 1e-8 f_n0 in f_e moves it by some 8e-9 Q here
     # (dP_a/df_e = 5e-4 Q/Hz: 1.2514 Q at 1560 Hz, 1.2725 Q at 1600 Hz).
     from numerics import continue_in_force
-    from numerics._continuation import LOCATE_TOL
+    from numerics.continuation.walk import LOCATE_TOL
 
     _, doubling = doubling_125
     run = continue_in_force(doubling.frequency_hz, 0.8, 1.5)
@@ -806,11 +806,11 @@ def test_folds_are_located_once_the_walk_knows_which_turns_are_folds():
     # and the same points in the same order but those that extra locations kept (none
     # now; 61 with the zigzag). Each fold located is where f turns: a point inserted one
     # place off would not be an extreme of f.
-    from numerics import _continuation
+    from numerics.continuation import walk as walk_module
 
     run = continue_orbits(0.15, 250.0, 1800.0)
     with pytest.MonkeyPatch.context() as patched:
-        patched.setattr(_continuation, "_NEAR_TURN", 10**9)
+        patched.setattr(walk_module, "_NEAR_TURN", 10**9)
         every = continue_orbits(0.15, 250.0, 1800.0)
     assert [b.as_dict() for b in run.bifurcations] == [b.as_dict() for b in every.bifurcations]
     ours, theirs = run.branches[0], every.branches[0]

@@ -1,7 +1,7 @@
 """Contact switches located within the RK4 step.
 
 A step that crosses y = 0 is split there, and each side integrated with its own law
-(numerics/_kernel_template.py). Checked here against an independent integrator that
+(numerics/kernels/kernel_template.py). Checked here against an independent integrator that
 locates each switch too (scipy's DOP853 with events, ``reference_last_period``):
 - RK4 converges at order 4 through loss of contact where the contact's laws are smooth
   up to y = 0 from the contact side: the paper's contact (m2 = 2, l = 1) and the
@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 from numerics import simulate
-from numerics._codegen import compiled_kernels
-from numerics._reference import reference_last_period
+from numerics.kernels.codegen import compiled_kernels
+from numerics.simulation.reference import reference_last_period
 from perturb import PAPER, ContactModel, eq26_numbers, parameters_with
 
 Y0 = eq26_numbers().y0_m
@@ -148,7 +148,7 @@ def test_the_monodromy_is_the_derivative_of_the_split_steps(m2, l):
 
 
 def test_a_lane_with_more_switches_in_a_step_than_the_limit_fails_and_says_why():
-    from numerics._lanes import MAX_SWITCHES, failure_message
+    from numerics.kernels.lanes import MAX_SWITCHES, failure_message
 
     kernels = compiled_kernels(ContactModel())
     assert kernels.MAX_SWITCHES == MAX_SWITCHES  # one limit, said where lanes fail
@@ -187,7 +187,7 @@ def test_the_bouncing_folds_are_located(frac, fold_hz):
     # Now each is located by Brent's method to 1.5e-5 Hz on the map of its steps, and
     # the maps of 512 and 2048 steps agree on it (measured 6.8e-4 and 3.8e-4 Hz apart).
     from numerics import continue_orbits
-    from numerics._continuation import LOCATE_TOL
+    from numerics.continuation.walk import LOCATE_TOL
 
     f_n0 = eq26_numbers().f_n0_hz
     found = []

@@ -144,7 +144,7 @@ def test_sizes_beyond_the_limits_are_refused_before_any_work():
 
 def test_the_response_in_chunks_equals_the_response_at_once(monkeypatch):
     # Frequencies are solved a chunk at a time, so that memory stays bounded.
-    import perturb._response as response
+    import perturb.response.frequency as response
 
     f = np.linspace(1300.0, 1500.0, 301)
     whole = response.frequency_response(f, 0.05, 4)
@@ -571,7 +571,7 @@ def _stays_on_the_orbit_at_twice_the_steps(attractor, f_e, p_a_n, y, v, steps, t
 
 def test_a_coarse_sweep_keeps_the_branch_the_fine_sweep_is_on():
     # Regression (review): refining an orbit that settled too coarsely by Newton from it
-    # (numerics._steady._sharpen) kept the branch a coarse march had reached: at 0.1 Q a
+    # (numerics.steady.shooting._sharpen) kept the branch a coarse march had reached: at 0.1 Q a
     # 32-step down sweep reported 747.5-755 Hz settled on a 34 nm orbit where the
     # 1024-step sweep is on the 1854 nm bouncing branch (98 % off). Only orbits that
     # Newton continued and the approach check passed are refined so now; measured: every
@@ -604,7 +604,7 @@ def test_a_coarse_sweep_goes_finer_where_it_jumps_off_an_under_resolved_branch()
 def test_a_jump_that_cannot_be_swept_finer_is_flagged(monkeypatch):
     # Where twice the steps would pass MAX_STEPS, the jump off an under-resolved branch
     # stays, flagged: under-resolved, with a message (the orbit itself is right).
-    import numerics._sweep as sweeping
+    import numerics.steady.sweeps as sweeping
 
     def refuse(steps, refinements=0):
         raise ValueError("too many steps")

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from numerics import attractors, classify_motion, largest_lyapunov, steady_states
-from numerics._lyapunov import _INITIAL_ANGLE, VERDICTS
+from numerics.steady.lyapunov import _INITIAL_ANGLE, VERDICTS
 from perturb import PAPER, ContactModel, eq26_numbers
 from perturb.common import GLOSSARY, Status, load
 from tests.test_hard_cases import _largest_lyapunov_per_period

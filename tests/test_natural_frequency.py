@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from numerics import HeightSweep, natural_frequency_vs_height
-from numerics._natural_frequency import steel_density
+from numerics.contact.natural_frequency import steel_density
 from perturb import PAPER_CUBE_SIDE_M, PAPER_F_N0_HZ, ContactModel, ContactParameters, eq26_numbers
 from perturb.common import load
 

@@ -92,7 +92,7 @@ def test_every_paper_scene_reads_and_says_what_it_is():
 
 @pytest.mark.parametrize("name", sorted(PAPER_NUMBERS))
 def test_a_paper_scene_repeats_perturbs_numbers_exactly(name):
-    # The paper's numbers live in perturb/_parameters.py; a scene file repeats some of
+    # The paper's numbers live in perturb/model/parameters.py; a scene file repeats some of
     # them as data, and this is where the two are held equal.
     frequency_hz, pa_frac, options = PAPER_NUMBERS[name]
     scene = paper_scene(name)
@@ -122,7 +122,7 @@ def test_the_fig2_fig3_scene_is_the_papers_sweep_bit_for_bit():
 #: the scenes of KERNEL_FREE, as `make paper` runs them; and, the negative control,
 #: Fig. 5's scene (400 periods of RK4), which must hit the refusal.
 _NO_KERNELS = """
-import numerics._codegen as codegen, numerics._walk_codegen as walk_codegen
+import numerics.kernels.codegen as codegen, numerics.kernels.walk_codegen as walk_codegen
 from numerics.scenes import run_scene
 from paper_checks._scene import KERNEL_FREE, paper_scene
 

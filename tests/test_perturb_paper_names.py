@@ -1,7 +1,7 @@
 """The paper's printed Eq. 2.8-2.10, A.1, A.2 against the engine, name by name.
 
 The paper's equations are typed here as printed (with the conventions that
-``perturb._paper_names`` documents) and evaluated with numpy: an independent,
+``perturb.printing.names`` documents) and evaluated with numpy: an independent,
 hand-derived route to the same amplitudes, phases and b_n.
 """
 
@@ -12,8 +12,8 @@ import pytest
 import sympy as sp
 
 from perturb import eq26_numbers
-from perturb._compiled import compile_series
-from perturb._paper_names import PAPER_NAMES, paper_names
+from perturb.printing.names import PAPER_NAMES, paper_names
+from perturb.series.compiled import compile_series
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
 compile_series = _partial(compile_series, truncation="paper")

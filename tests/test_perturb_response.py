@@ -22,12 +22,12 @@ from perturb import (
     PAPER_BAND_HZ,
     PAPER_F_N0_HZ,
     ContactModel,
-    _response_codegen,
     compile_series,
     eq26_numbers,
     frequency_response,
 )
-from perturb._response_codegen import series_kernels
+from perturb.response import codegen
+from perturb.response.codegen import series_kernels
 
 from ._response_reference import reference_response
 
@@ -420,7 +420,7 @@ def test_a_response_with_its_kernels_cached_needs_no_sympy():
 def empty_series_cache(tmp_path, monkeypatch):
     """An empty cache folder, and no series kernels loaded by this process."""
     monkeypatch.setenv("CONTACT_RESONANCES_CACHE", str(tmp_path))
-    monkeypatch.setattr(_response_codegen, "_LOADED", {})
+    monkeypatch.setattr(codegen, "_LOADED", {})
     return tmp_path / "kernels"
 
 
@@ -431,13 +431,13 @@ def test_a_damaged_series_cache_is_rebuilt(empty_series_cache):
     reference = series_kernels(0)
     (source,) = cache.glob("series_*.py")
     source.write_text(source.read_text()[:500])  # cut short
-    _response_codegen._LOADED.clear()
+    codegen._LOADED.clear()
     assert series_kernels(0) is not reference
     numba_files = list(cache.glob("__pycache__/series_*.nb*"))
     assert numba_files
     for path in numba_files:
         path.write_bytes(b"garbage")
-    _response_codegen._LOADED.clear()
+    codegen._LOADED.clear()
     rebuilt = series_kernels(0)
     assert all(p.read_bytes() != b"garbage" for p in cache.glob("__pycache__/series_*.nb*"))
     f = np.array([800.0, 1420.0])

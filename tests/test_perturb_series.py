@@ -13,8 +13,8 @@ import sympy as sp
 
 from perturb import compile_series, derive
 from perturb import series_symbols as sym
-from perturb._compiled import A0, complex_chain
-from perturb._lindstedt import gain_closed_form, lag_closed_form
+from perturb.series.compiled import A0, complex_chain
+from perturb.series.lindstedt import gain_closed_form, lag_closed_form
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
 derive = _partial(derive, truncation="paper")
@@ -38,7 +38,7 @@ def test_odd_b_vanish_identically(order):
 
 def test_b2_is_the_papers_formula():
     # Eq. 2.10: b2 = 2 h A2 + h A1 cos(phi1), with A2 = A_1_0, A1 = -A_1_2 and
-    # phi1 = phi_1_2 - 2 phi_0_1 - pi (perturb._paper_names).
+    # phi1 = phi_1_2 - 2 phi_0_1 - pi (perturb.printing.names).
     b2 = derive(2).b_closed_form(2)
     A1, A2 = -sym.amplitude(1, 2), sym.amplitude(1, 0)
     phi1 = sym.phase(1, 2) - 2 * sym.phase(0, 1) - sp.pi
@@ -171,7 +171,7 @@ def test_series_is_derived_for_the_models_eq26():
     # The engine's Eq. 2.6, with c, h, G, omega0 of Eq26 (derived from Eq. 2.1-2.5).
     from perturb import Eq26
     from perturb import symbols as model
-    from perturb._lindstedt import eq26_substitution, equation_2_6
+    from perturb.series.lindstedt import eq26_substitution, equation_2_6
 
     eq = Eq26()
     u = sp.Function("u")

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from numerics import attractors, simulate, sweep
-from numerics._attractors import DEFAULT_GRID
 from numerics.scenes import SceneError, parse_scene, read_scene, run_scene
 from numerics.scenes import _auto as auto
 from numerics.scenes._studies import model_of, run_study
+from numerics.steady.census import DEFAULT_GRID
 from perturb import (
     EQ_2_6,
     FULL,
@@ -410,9 +410,9 @@ def test_the_series_is_not_the_route_where_the_full_model_finds_another_orbit():
     # Sought from the series' own orbit at each point instead, the full model settles
     # on it everywhere, within the tolerance (measured 2.4e-7 of App): that check alone
     # took this series as the route.
-    from numerics._orbits import Orbits
-    from numerics._steady import steady_states
     from numerics.scenes._series_route import series_study
+    from numerics.steady.orbits import Orbits
+    from numerics.steady.shooting import steady_states
 
     study, _, _ = series_study(scene, scene.frequency_hz, auto.MARGIN * scene.tolerance)
     points = Orbits.stack(study.outcomes[0].runs)
@@ -629,9 +629,9 @@ def test_the_errors_of_an_orbit_study_say_what_is_wanted():
 
 
 def test_orbit_studies_fill_in_the_apis_defaults():
-    from numerics._continuation import DEFAULTS as CONTINUATION_DEFAULTS
-    from numerics._folds import DEFAULTS as FOLD_DEFAULTS
-    from numerics._steady import DEFAULTS as STEADY_DEFAULTS
+    from numerics.continuation.folds import DEFAULTS as FOLD_DEFAULTS
+    from numerics.continuation.walk import DEFAULTS as CONTINUATION_DEFAULTS
+    from numerics.steady.shooting import DEFAULTS as STEADY_DEFAULTS
 
     continuation = parse_scene(CONTINUATION).options
     assert continuation == {"continued_in": "frequency_hz", "period": 1,

@@ -1,16 +1,16 @@
-"""The series' formulas on disk (``perturb._compiled``, issue 12): a later process imports
+"""The series' formulas on disk (``perturb.series.compiled``, issue 12): a later process imports
 them instead of deriving, they compute exactly what the derivation's lambdified code
 computes, and a cut or garbled file is derived again."""
 
 import numpy as np
 import pytest
 
-from perturb import _compiled
-from perturb._cache import write_generated
-from perturb._compiled import formulas_cached
+from perturb.cache import write_generated
+from perturb.series import compiled
+from perturb.series.compiled import formulas_cached
 
 # Eq. 2.6's series, the one whose lambdified formulas are kept on disk.
-compile_series = _compiled.lambdified_series
+compile_series = compiled.lambdified_series
 
 ORDER = 4
 #: (A0, omega, Omega, c, h): dimensionless values, as tests/test_perturb_series.py uses.
@@ -40,7 +40,7 @@ def test_cached_formulas_compute_what_the_derivation_computes(empty_cache, monke
     derived = compile_series(ORDER)
     assert formulas_cached(ORDER)
     compile_series.cache_clear()
-    monkeypatch.setattr(_compiled, "derive", _not_derived)
+    monkeypatch.setattr(compiled, "derive", _not_derived)
     loaded = compile_series(ORDER)
     assert (loaded.order, loaded.b_orders, loaded.keys) == (
         derived.order, derived.b_orders, derived.keys)
@@ -82,12 +82,12 @@ def test_the_reports_warm_up_writes_every_order_and_keeps_none_in_memory(empty_c
 
 def test_formulas_that_cannot_be_written_are_still_given(empty_cache, monkeypatch):
     # A full disk: the derived formulas are returned, with a warning, and not cached.
-    from perturb._cache import CacheWarning
+    from perturb.cache import CacheWarning
 
     def full_disk(path, body):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(_compiled, "write_generated", full_disk)
+    monkeypatch.setattr(compiled, "write_generated", full_disk)
     with pytest.warns(CacheWarning, match="order 2 are not cached"):
         formulas = compile_series(2)
     assert formulas.order == 2 and not formulas_cached(2)

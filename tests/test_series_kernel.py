@@ -1,4 +1,4 @@
-"""The numba kernel of the numeric series (``perturb._series_kernel``) against the same
+"""The numba kernel of the numeric series (``perturb.series.kernel``) against the same
 scheme in numpy (``NumericSeries``): every b_n and z_n_k, on the truncations of the
 paper's contact and of two others, at orders 0 to 10.
 
@@ -26,11 +26,11 @@ off by 5e-9 and the kernel's by 1.3e-9). Off them the two agree to some 5e-14 at
 import numpy as np
 import pytest
 
-from perturb import _series_kernel as series_kernel
-from perturb._parameters import PAPER, ContactParameters
-from perturb._series_kernel import KernelSeries, kernel_series
-from perturb._series_numeric import NumericSeries
-from perturb._truncation import Truncation, series_values, truncation_for
+from perturb.model.parameters import PAPER, ContactParameters
+from perturb.series import kernel as series_kernel
+from perturb.series.kernel import KernelSeries, kernel_series
+from perturb.series.numeric import NumericSeries
+from perturb.series.truncation import Truncation, series_values, truncation_for
 
 #: (truncation, contact): a generic contact (every k_j, d_j), Eq. 2.6, the paper's
 #: contact to consistent order (k_2 and d_1) and a cubic spring with quadratic damping.
@@ -48,7 +48,7 @@ MAX_TRANSFER = 10.0  # the lanes' largest omega^2 / |omega^2 - k^2 Omega^2|, k >
 
 def _both(case: str, order: int):
     """NumericSeries and KernelSeries of ``case`` at ``order``, built as
-    ``_compiled.compile_series`` builds them, and the contact's coefficients."""
+    ``perturb.series.compiled.compile_series`` builds them, and the contact's coefficients."""
     name, parameters = CASES[case]
     truncation = truncation_for(name, parameters)
     at_order = Truncation(truncation.name, *truncation.at_order(order))

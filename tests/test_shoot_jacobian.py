@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from numerics import compiled_kernels, drive_table
-from numerics._continuation_map import ForceMap, PeriodMap
+from numerics.continuation.period_map import ForceMap, PeriodMap
 from perturb import ContactModel, eq26_numbers
 
 STEPS = 256

@@ -63,7 +63,7 @@ def test_a_warm_command_does_not_import_sympy(name, tmp_path):
     args, forbidden = COMMANDS[name]
     args = [arg.replace("{tmp}", str(tmp_path)) for arg in args]
     if name == "perturb response":
-        from perturb._response_codegen import series_kernels
+        from perturb.response.codegen import series_kernels
 
         series_kernels(6)  # built once per cache: the warm case
     imported(args)  # fills the cache when it is empty (that run may import anything)

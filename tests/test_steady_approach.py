@@ -6,8 +6,9 @@ otherwise; its verdicts are those of the one-stage check of _VERIFY_PERIODS it r
 import numpy as np
 import pytest
 
-from numerics import _steady, steady_states, sweep
-from numerics._steady import _Batch
+from numerics import steady_states, sweep
+from numerics.steady import shooting
+from numerics.steady.shooting import _Batch
 from perturb import PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
 
 #: Columns that must not move when only the cost of the check changes.
@@ -17,7 +18,7 @@ SAME = ("status", "period", "app_m", "ymin_m", "ymax_m", "y_start_m", "v_start_m
 
 def one_stage(monkeypatch):
     """The check as it was: every lane marches _VERIFY_PERIODS, one verdict."""
-    monkeypatch.setattr(_steady, "_VERIFY_FIRST", _steady._VERIFY_PERIODS)
+    monkeypatch.setattr(shooting, "_VERIFY_FIRST", shooting._VERIFY_PERIODS)
 
 
 def assert_same_points(staged, single):
@@ -62,19 +63,19 @@ def test_a_lane_that_approaches_then_departs_is_not_accepted_early():
     span = run.app_m[[seed]]
     monodromy = np.empty((1, 2, 2))
     ok, y_orbit, v_orbit, _, shot = batch.newton([0], y, v, 1, span,
-                                                 _steady._REACH_CONTINUATION, monodromy)
+                                                 shooting._REACH_CONTINUATION, monodromy)
     assert ok[0]  # Newton continued the big orbit, stable by its multipliers
     scale = batch.scale(span)
     before = batch.distance([0], y - y_orbit, v - v_orbit, scale)
     ym, vm = y.copy(), v.copy()
-    batch.advance(ym, vm, _steady._VERIFY_FIRST, np.full(1, -1))
+    batch.advance(ym, vm, shooting._VERIFY_FIRST, np.full(1, -1))
     after = batch.distance([0], ym - y_orbit, vm - v_orbit, scale)
-    assert after[0] < _steady._VERIFY_SHRINK * before[0]  # measured 0.31 of it
+    assert after[0] < shooting._VERIFY_SHRINK * before[0]  # measured 0.31 of it
     # ... but it left the orbit's linearisation (by 0.36 of the first distance, 18 times
     # _VERIFY_LINEAR), so the check marches on, and rejects it.
-    ly, lv = _steady._propagate(monodromy, y - y_orbit, v - v_orbit, _steady._VERIFY_FIRST)
+    ly, lv = shooting._propagate(monodromy, y - y_orbit, v - v_orbit, shooting._VERIFY_FIRST)
     deviation = batch.distance([0], ym - y_orbit - ly, vm - v_orbit - lv, scale)
-    assert deviation[0] > 10 * _steady._VERIFY_LINEAR * before[0]
+    assert deviation[0] > 10 * shooting._VERIFY_LINEAR * before[0]
     assert not batch.follows(np.array([0]), y, v, y_orbit, v_orbit, 1, span, monodromy,
                              shot)[0]
 

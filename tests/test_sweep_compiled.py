@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 from numerics import sweep
-from numerics._codegen import sweep_driver_built
-from numerics._sweep import _sweep_lanes
+from numerics.kernels.codegen import sweep_driver_built
+from numerics.steady.sweeps import _sweep_lanes
 from perturb import EQ_2_6, FULL, PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
 from perturb.common import Status
 
@@ -108,7 +108,7 @@ def test_an_error_in_one_group_of_lanes_stops_the_others(monkeypatch):
     # their block (not after the whole walk), and is raised.
     import threading
 
-    from numerics import _sweep_compiled
+    from numerics.steady import sweep_compiled
 
     blocks = []
 
@@ -123,14 +123,14 @@ def test_an_error_in_one_group_of_lanes_stops_the_others(monkeypatch):
             stop.wait(0.005)
         return None
 
-    monkeypatch.setattr(_sweep_compiled, "_walk", walk)
+    monkeypatch.setattr(sweep_compiled, "_walk", walk)
     freq = np.array([[900.0, 950.0], [1000.0, 1050.0]])
     with pytest.raises(RuntimeError, match="broken group"):
-        _sweep_compiled.sweep_lanes_compiled(freq, np.full(2, 0.1 * PAPER.Q_n),
+        sweep_compiled.sweep_lanes_compiled(freq, np.full(2, 0.1 * PAPER.Q_n),
                                              ContactModel(), threads=2, **ACCURACY)
     assert len(blocks) < 1000
     with pytest.raises(ValueError, match="`threads`"):
-        _sweep_compiled.sweep_lanes_compiled(freq, 0.1 * PAPER.Q_n, ContactModel(),
+        sweep_compiled.sweep_lanes_compiled(freq, 0.1 * PAPER.Q_n, ContactModel(),
                                              threads=0, **ACCURACY)
 
 
@@ -210,13 +210,13 @@ def test_a_broken_driver_cache_falls_back_to_python_and_is_removed(monkeypatch):
     # engine="compiled" raises.
     import pickle
 
-    from numerics import _codegen
-    from numerics import _sweep as sweep_module
-    from numerics._codegen import CacheWarning
-    from numerics._sweep_compiled import DriverUnusable
+    from numerics.kernels import codegen
+    from numerics.kernels.codegen import CacheWarning
+    from numerics.steady import sweeps as sweep_module
+    from numerics.steady.sweep_compiled import DriverUnusable
 
     model = ContactModel()
-    kernels = _codegen.compiled_kernels(model)
+    kernels = codegen.compiled_kernels(model)
 
     def truncated(*args):
         raise pickle.UnpicklingError("pickle data was truncated")
@@ -237,9 +237,9 @@ def test_a_walk_cut_into_one_point_blocks_matches_the_python_sweep(monkeypatch):
     # The compiled walk runs a block of points per call (about BLOCK_SECONDS each) so that
     # the progress bar moves and Ctrl-C is heard; each block continues every lane from its
     # last good orbit. One point per block is the hardest case for that hand-over.
-    from numerics import _sweep_compiled
+    from numerics.steady import sweep_compiled
 
-    monkeypatch.setattr(_sweep_compiled, "BLOCK_SECONDS", 0.0)
+    monkeypatch.setattr(sweep_compiled, "BLOCK_SECONDS", 0.0)
     done = []
     freq = np.linspace(1300.0, 1500.0, 9)
     blocks = _sweep_lanes(freq[None, :], np.array([0.2 * PAPER.Q_n]), ContactModel(), True,
@@ -247,8 +247,8 @@ def test_a_walk_cut_into_one_point_blocks_matches_the_python_sweep(monkeypatch):
     python = _sweep_lanes(freq[None, :], np.array([0.2 * PAPER.Q_n]), ContactModel(), True,
                           engine="python", **ACCURACY)
     assert_same_points(blocks, python)
-    monkeypatch.setattr(_sweep_compiled, "BLOCK_SECONDS", 1e9)  # one block: the whole walk
-    _sweep_compiled.sweep_lanes_compiled(freq[None, :], np.array([0.2 * PAPER.Q_n]),
+    monkeypatch.setattr(sweep_compiled, "BLOCK_SECONDS", 1e9)  # one block: the whole walk
+    sweep_compiled.sweep_lanes_compiled(freq[None, :], np.array([0.2 * PAPER.Q_n]),
                                          ContactModel(), done=done.append, **ACCURACY)
     assert done == [1, 8]  # the first block is one point, to measure the time per point
 
@@ -261,7 +261,7 @@ def test_lanes_walked_in_threads_give_the_points_of_one_walk(monkeypatch):
     # two lanes (0, 3 and 1, 2: dealt back and forth), and three groups, two of one lane
     # and one of two (lanes 2 and 3). The progress bar hears every point once, when
     # every group has passed it.
-    from numerics import _sweep_compiled
+    from numerics.steady import sweep_compiled
 
     freq = np.tile(np.linspace(900.0, 1500.0, 13), (4, 1))
     freq[1::2] = freq[1::2, ::-1]  # up, down, up, down
@@ -269,7 +269,7 @@ def test_lanes_walked_in_threads_give_the_points_of_one_walk(monkeypatch):
     walked = {}
     for threads in (1, 2, 3):
         done = []
-        walked[threads] = _sweep_compiled.sweep_lanes_compiled(
+        walked[threads] = sweep_compiled.sweep_lanes_compiled(
             freq, p_a, ContactModel(), done=done.append, threads=threads, **ACCURACY)
         assert sum(done) == freq.shape[1], done
     assert_same_points(walked[2], walked[1])
@@ -281,7 +281,7 @@ def test_lanes_walked_in_threads_give_the_points_of_one_walk(monkeypatch):
 @pytest.mark.parametrize("lanes", [0, 1, 2, 3, 7, 20, 24])
 @pytest.mark.parametrize("count", [1, 2, 3, 5])
 def test_lanes_are_dealt_each_once_in_order_and_evenly(lanes, count):
-    from numerics._sweep_compiled import deal_lanes
+    from numerics.steady.sweep_compiled import deal_lanes
 
     groups = deal_lanes(lanes, count)
     assert len(groups) == count
@@ -300,14 +300,14 @@ def test_a_driver_removed_by_another_process_is_seen_as_not_built(tmp_path, monk
     # Regression (review): "built" was kept for the process, so after another process
     # removed the driver's files "auto" would start a silent 25-40 s compile. The memo
     # keeps the index file found, and a stat of it decides.
-    from numerics import _codegen
+    from numerics.kernels import codegen
 
     index = tmp_path / "kernel_x.sweep_lanes-1.py311.nbi"
     index.write_text("")
     model = ContactModel()
-    memo = (_codegen.cache_dir(), model.parameters, model.effects)
-    monkeypatch.setitem(_codegen._DRIVERS_BUILT, memo, index)
+    memo = (codegen.cache_dir(), model.parameters, model.effects)
+    monkeypatch.setitem(codegen._DRIVERS_BUILT, memo, index)
     assert sweep_driver_built(model)  # the memo, while its file is there
     index.unlink()
-    monkeypatch.setattr(_codegen, "usable_cache_dir", lambda: tmp_path)  # nothing built
+    monkeypatch.setattr(codegen, "usable_cache_dir", lambda: tmp_path)  # nothing built
     assert not sweep_driver_built(model)

@@ -15,23 +15,19 @@ from perturb import (
     PAPER,
     ContactModel,
     ContactParameters,
-    _response,
     backbone_series,
     derive,
     eq26_numbers,
     frequency_response,
     series_orbits,
 )
-from perturb._backbone_series import power_law_backbone_coefficients
-from perturb._compiled import compile_series, lambdify_chain
-from perturb._response_codegen import series_kernels
-from perturb._series_numeric import NumericSeries
-from perturb._symbols import m2 as m2_symbol
-from perturb._truncation import (
-    coefficient_closed_form,
-    series_values,
-    truncation_for,
-)
+from perturb.model.symbols import m2 as m2_symbol
+from perturb.response import frequency as frequency_module
+from perturb.response.codegen import series_kernels
+from perturb.series.compiled import compile_series, lambdify_chain
+from perturb.series.free_backbone import power_law_backbone_coefficients
+from perturb.series.numeric import NumericSeries
+from perturb.series.truncation import coefficient_closed_form, series_values, truncation_for
 
 Y0 = eq26_numbers(PAPER).y0_m
 
@@ -250,7 +246,7 @@ def test_the_engines_of_a_consistent_response_agree(parameters, monkeypatch):
     frequency = np.linspace(0.93 * f_n0, 0.99 * f_n0, 13)
     compiled = frequency_response(frequency, 0.06, 3, parameters=parameters,
                                   engine="compiled")
-    monkeypatch.setattr(_response, "series_kernels_built", lambda *args: False)
+    monkeypatch.setattr(frequency_module, "series_kernels_built", lambda *args: False)
     routes = [compiled, *(frequency_response(frequency, 0.06, 3, parameters=parameters,
                                              engine=e) for e in ("auto", "numpy"))]
     assert max(len(r.branches) for r in routes) >= 3  # the bent peak: three roots
@@ -300,8 +296,8 @@ def test_the_generated_kernels_of_a_consistent_series_are_the_scheme(parameters)
 def test_the_derivation_study_of_a_consistent_series():
     """Step by step in the engine's names: its b_2 is the series' closed form (the phase
     of u_1's harmonic 2 written as the study writes it, psi_1_2 + theta_2)."""
-    from perturb import _series_symbols as sym
     from perturb import derivation_latex, derivation_text
+    from perturb.series import series_symbols as sym
 
     series = derive(2, parameters=contact(1.5, 0.5))
     text = derivation_text(series)

@@ -1,4 +1,4 @@
-"""The compiled continuation walk (``numerics/_walk_template.py``) against the Python walk
+"""The compiled continuation walk (``numerics/kernels/walk_template.py``) against the Python walk
 it repeats (``engine="python"``, the reference)."""
 
 from __future__ import annotations
@@ -9,12 +9,13 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from numerics import _codegen, _walk_codegen, continue_orbits
-from numerics._continuation import _band_walk, walk_band
-from numerics._continuation_map import ForceMap, PeriodMap
-from numerics._walk_codegen import compiled_walk
+from numerics import continue_orbits
+from numerics.continuation.period_map import ForceMap, PeriodMap
+from numerics.continuation.walk import _band_walk, walk_band
+from numerics.kernels import codegen, walk_codegen
+from numerics.kernels.walk_codegen import compiled_walk
 from perturb import LINEAR, ContactModel, eq26_numbers
-from perturb._cache import intact
+from perturb.cache import intact
 from perturb.common import Status
 
 
@@ -78,7 +79,7 @@ def test_steps_in_f_alone_never_turn_a_walk_back_onto_its_own_points(monkeypatch
     # (1,211 points), through both folds, each located (the bouncing one at 263.28 Hz;
     # without the events it took walks at 512, 1024 and 2048 steps, and the bouncing fold
     # was only marked, 263.29 Hz +-0.15 Hz). No point is walked twice.
-    from numerics import _continuation as c
+    from numerics.continuation import walk as c
 
     made, band_walk = [], c._band_walk
     monkeypatch.setattr(c, "_band_walk", lambda shoot, *args: made.append(
@@ -105,12 +106,12 @@ def test_an_unknown_engine_is_refused():
 def test_a_damaged_walk_file_is_written_and_compiled_again(tmp_path, monkeypatch):
     # Slow: compiles the linear model's kernels and walk into an empty cache (some 25 s).
     monkeypatch.setenv("CONTACT_RESONANCES_CACHE", str(tmp_path))
-    monkeypatch.setattr(_codegen, "_LOADED", {})
-    monkeypatch.setattr(_walk_codegen, "_LOADED", {})
+    monkeypatch.setattr(codegen, "_LOADED", {})
+    monkeypatch.setattr(walk_codegen, "_LOADED", {})
     model = ContactModel(effects=LINEAR)
     path = Path(compiled_walk(model).__file__)
     path.write_text(path.read_text()[:200])  # truncated: a crash while writing
-    monkeypatch.setattr(_walk_codegen, "_LOADED", {})
+    monkeypatch.setattr(walk_codegen, "_LOADED", {})
     walk = compiled_walk(model)
     assert Path(walk.__file__) == path and intact(path)
     run = continue_orbits(0.02, 1300.0, 1600.0, model=model)
@@ -123,8 +124,8 @@ def test_the_compiled_walk_reads_each_number_where_python_writes_it(monkeypatch)
     # that are equal by default (_SIZE_CEILING and _CORNER_CEILING 20, _SHRINK and
     # _CONTRACTION 0.5, ds_max and _STRAIGHT 0.03) are made distinct here, and all are
     # checked to be, so that two indices swapped fail.
-    from numerics import _continuation as c
-    from numerics import _continuation_map as m
+    from numerics.continuation import period_map as m
+    from numerics.continuation import walk as c
 
     monkeypatch.setattr(c, "_CORNER_CEILING", 21.0)
     monkeypatch.setattr(m, "_CONTRACTION", 0.55)
@@ -154,8 +155,8 @@ def test_the_corners_step_grows_with_the_orbit_but_not_past_ds_max():
     # reached 0.014, so that a sharp turn over any step up to ds_max was taken for a
     # corner; capped, that walk took 5075 points against 4978, the same two folds:
     # measured once by hand, 2026-11-24).
-    from numerics import _continuation as c
-    from numerics import _continuation_map as m
+    from numerics.continuation import period_map as m
+    from numerics.continuation import walk as c
 
     shoot = m.PeriodMap(ContactModel(), 0.15 * ContactModel().parameters.Q_n, 512, 1)
     module = shoot.walker
@@ -211,7 +212,7 @@ def test_a_bifurcation_that_cannot_be_located_is_marked_not_lost(
     # method fails: the bifurcation is then marked at the last point kept, within one
     # step, and says so: not located, with the step's reach in f as its tolerance, which
     # holds where Brent's method (not forced to fail) locates it.
-    from numerics import _continuation as c
+    from numerics.continuation import walk as c
 
     located = [b for b in continue_orbits(pa_frac, *band, engine=engine).bifurcations
                if b.kind == kind]

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 
 from perturb import PAPER_PANEL_FRACTIONS, ContactModel
-from perturb._model_option import model_parameters
 from perturb.common import int_at_least, nonnegative_float, note, plot_file
+from perturb.model.set_option import model_parameters
 
 from ._errors import option_error
 from ._steady import _accuracy_options, add_band_options, report
@@ -46,7 +46,7 @@ OPTIONS = {"fmin_hz": "--fmin", "fmax_hz": "--fmax", "pa_min": "--pa-min",
 
 
 def _atlas(args: argparse.Namespace) -> int:
-    from .._atlas import atlas, check_axes
+    from ..steady.multistability import atlas, check_axes
 
     try:  # the axes before connecting to a scheduler
         check_axes(args.fmin, args.fmax, args.pa_min, args.pa_max, args.grid)

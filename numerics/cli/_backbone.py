@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import argparse
 
-from perturb._model_option import add_model_option, model_parameters
 from perturb.common import int_at_least, note, output_file, positive_float, write_json
+from perturb.model.set_option import add_model_option, model_parameters
 
 __all__ = ["add_backbone_parser"]
 
 
 def _points(text: str) -> int:
     """--points: an integer from 1 to the backbone's MAX_POINTS."""
-    from .._backbone import MAX_POINTS  # scipy only when this command is parsed
+    from ..backbone.exact import MAX_POINTS
 
     return int_at_least(1, MAX_POINTS, "computed in chunks, 0.4 GB at the limit")(text)
 
@@ -56,7 +56,7 @@ def _backbone(args: argparse.Namespace) -> int:
     parameters = model_parameters(args)
     from perturb import ContactModel
 
-    from .._backbone import exact_backbone  # sympy and scipy only once the input is good
+    from ..backbone.exact import exact_backbone
 
     span = "" if app_range is None else f", A_pp {app_range[0]:g}..{app_range[1]:g} m"
     note(f"backbone: {args.points} energy levels{span} ...", quiet=args.quiet)

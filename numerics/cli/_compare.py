@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-from perturb._model_option import add_model_option, model_parameters
-from perturb._truncation import TRUNCATIONS
 from perturb.common import (
     add_allow_slow,
     add_unchecked,
@@ -14,6 +12,8 @@ from perturb.common import (
     output_file,
     plot_file,
 )
+from perturb.model.set_option import add_model_option, model_parameters
+from perturb.series.truncation import TRUNCATIONS
 
 __all__ = ["add_compare_parser"]
 
@@ -42,7 +42,7 @@ def add_compare_parser(sub) -> None:
 
 
 def _compare(args: argparse.Namespace) -> int:
-    from .._compare import compare  # sympy and scipy only for this command
+    from ..comparison.study import compare
 
     # --orders and --pa-frac are checked by their argparse types (exit 2, naming
     # the option); compare() checks them again for callers from Python.

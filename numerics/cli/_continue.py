@@ -11,9 +11,9 @@ import argparse
 from pathlib import Path
 
 from perturb import EQ_2_6, FULL, PAPER_BAND_HZ, ContactModel
-from perturb._model_option import add_model_option, model_parameters
-from perturb._truncation import TRUNCATIONS
 from perturb.common import int_at_least, nonnegative_float, output_file, plot_file, positive_float
+from perturb.model.set_option import add_model_option, model_parameters
+from perturb.series.truncation import TRUNCATIONS
 
 from ._errors import option_error
 from ._steady import _steps, add_band_options, check_band, report
@@ -81,7 +81,7 @@ def _continue(args: argparse.Namespace) -> int:
     args.fmin = PAPER_BAND_HZ[0] if args.fmin is None else args.fmin
     args.fmax = PAPER_BAND_HZ[1] if args.fmax is None else args.fmax
     check_band(args)
-    from .._continuation import continue_orbits
+    from ..continuation.walk import continue_orbits
 
     if args.truncation is not None and args.series is None:
         args.parser.error("argument --truncation: goes with --series")
@@ -96,7 +96,7 @@ def _continue(args: argparse.Namespace) -> int:
                                  period=args.period, steps_per_period=args.steps,
                                  quiet=args.quiet)
         if args.switch:
-            from .._branch_switch import with_doubled_branches
+            from ..continuation.branch_switch import with_doubled_branches
 
             result = with_doubled_branches(result, quiet=args.quiet)
     except ValueError as error:  # e.g. a band out of the model's reach: before any work
@@ -124,7 +124,7 @@ def _continue_in_force(args: argparse.Namespace) -> int:
     for dest, option in IN_FORCE_ONLY.items():
         if getattr(args, dest) is None:
             args.parser.error(f"argument {option}: required with --fe")
-    from .._force_continuation import continue_in_force
+    from ..continuation.force import continue_in_force
 
     try:
         result = continue_in_force(args.fe, args.pa_min, args.pa_max,
@@ -163,7 +163,7 @@ def _series(args: argparse.Namespace, parameters):
 
     from perturb import frequency_response
 
-    from .._series_stability import series_stability
+    from ..comparison.root_stability import series_stability
 
     response = frequency_response(np.linspace(args.fmin, args.fmax, SERIES_POINTS),
                                   args.pa_frac, args.series, parameters=parameters,

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 
 from perturb import FULL, ContactModel
-from perturb._model_option import add_model_option, model_parameters
 from perturb.common import output_file, plot_file, positive_float
+from perturb.model.set_option import add_model_option, model_parameters
 
 from ._steady import _steps, add_band_options, check_band, report
 
@@ -39,7 +39,7 @@ def _folds(args: argparse.Namespace) -> int:
     if not args.pa_min < args.pa_max:
         args.parser.error(f"argument --pa-max: must be above --pa-min, got {args.pa_min} and "
                           f"{args.pa_max}")
-    from .._folds import fold_curves
+    from ..continuation.folds import fold_curves
 
     try:
         result = fold_curves(args.fmin, args.fmax, args.pa_min, args.pa_max,

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from perturb._model_option import add_model_option, model_parameters
 from perturb.common import GLOSSARY, output_file, write_json
+from perturb.model.set_option import add_model_option, model_parameters
 
 __all__ = ["add_info_parser", "format_info"]
 

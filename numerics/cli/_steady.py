@@ -7,7 +7,6 @@ import argparse
 import numpy as np
 
 from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
-from perturb._model_option import add_model_option, model_parameters
 from perturb.common import (
     add_unchecked,
     int_at_least,
@@ -17,10 +16,11 @@ from perturb.common import (
     plot_file,
     positive_float,
 )
+from perturb.model.set_option import add_model_option, model_parameters
 
-from .._attractors import attractors
-from .._steady import DEFAULTS, MAX_STEPS
-from .._sweep import DIRECTIONS, MAX_STATES, sweep
+from ..steady.census import attractors
+from ..steady.shooting import DEFAULTS, MAX_STEPS
+from ..steady.sweeps import DIRECTIONS, MAX_STATES, sweep
 
 __all__ = ["add_sweep_parser", "add_attractors_parser"]
 

@@ -11,7 +11,7 @@ from matplotlib.figure import Figure
 from ._figure import finish, fixed_layout, new_figure
 
 if TYPE_CHECKING:  # the exact backbone imports scipy.optimize: not for every figure
-    from .._backbone import Backbone
+    from ..backbone.exact import Backbone
 
 __all__ = ["plot_backbone", "plot_backbone_truncations"]
 

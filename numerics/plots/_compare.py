@@ -9,8 +9,8 @@ from matplotlib.figure import Figure
 
 from perturb import ContactModel
 
-from .._backbone import Backbone, exact_backbone
-from .._compare import Comparison
+from ..backbone.exact import Backbone, exact_backbone
+from ..comparison.study import Comparison
 from ._figure import finish, fixed_layout, panel_title
 
 __all__ = ["plot_comparison"]

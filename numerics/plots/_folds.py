@@ -18,7 +18,7 @@ def plot_folds(folds, path=None, *, ax=None) -> Figure:
     resonance's bistable region (inside its curve, above its cusp) labelled at its
     lowest cusp, cusps marked; with ``ax``, drawn on it (over an atlas, say)."""
     figure, ax = new_figure((7.0, 4.2)) if ax is None else (ax.figure, ax)
-    from .._folds import resonance_name
+    from ..continuation.folds import resonance_name
 
     labelled = set()
     for curve in folds.fold_curves:

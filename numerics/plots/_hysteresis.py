@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from .._hysteresis import HysteresisLoop
+from ..contact.hysteresis import HysteresisLoop
 from ._figure import finish, new_figure
 
 __all__ = ["plot_hysteresis"]

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from matplotlib.figure import Figure
 
-from .._natural_frequency import HeightSweep
+from ..contact.natural_frequency import HeightSweep
 from ._figure import finish, new_figure
 
 __all__ = ["plot_natural_frequency"]

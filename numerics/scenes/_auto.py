@@ -48,7 +48,7 @@ import numpy as np
 
 from perturb import FULL, Effects, eq26_numbers
 
-from .._orbits import Orbits
+from ..steady.orbits import Orbits
 from ._observables import observe, orbit_observables
 from ._schema import Scene
 from ._series_route import SERIES_EFFECTS, SERIES_LABEL, series_study
@@ -102,7 +102,7 @@ def sample_grid(grid: np.ndarray, points: int = SAMPLE_POINTS) -> np.ndarray:
 def _evaluate(scene: Scene, effects: Effects, grid: np.ndarray) -> tuple[list[dict], float]:
     """The curves of the scene's study on ``grid`` with ``effects``, and the seconds it took
     (the model's kernels loaded, or compiled, before the clock starts)."""
-    from .._codegen import compiled_kernels
+    from ..kernels.codegen import compiled_kernels
 
     model = model_of(scene, effects)
     compiled_kernels(model)
@@ -352,7 +352,7 @@ def _full_through(scene, study: StudyRun, windows, length: int) -> list:
     each), all windows run as lanes of one sweep. A window continues from the scene's
     last good orbit before it, as the scene's sweep did; with none (the start of a
     run), from rest."""
-    from .._sweep import _sweep_lanes
+    from ..steady.sweeps import _sweep_lanes
 
     model, runs = model_of(scene, FULL), study.outcomes[0].runs
     freq = np.array([runs[r].frequency_hz[first:first + length] for r, first in windows])

@@ -83,7 +83,7 @@ def replay(model, orbits, i: int, periods: int) -> dict:
     """``periods`` periods of the orbit at point ``i`` of ``orbits`` (an ``Orbits``),
     simulated again from its start with the steps it settled at: t, y and v, the start
     state first, so that a whole number of orbit periods closes on itself."""
-    from .._simulate import simulate
+    from ..simulation.rk4 import simulate
 
     f_e = float(orbits.frequency_hz[i])
     run = simulate(f_e, orbits.p_a_n[i], periods=periods,
@@ -147,7 +147,7 @@ def _time_history_curves(scene, outcomes, model) -> list[dict]:
 
 
 def _pressure(model, y, v) -> np.ndarray:
-    from .._hysteresis import contact_pressure
+    from ..contact.hysteresis import contact_pressure
 
     return contact_pressure(model, y, v)
 

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from perturb import EQ_2_6, FULL, LINEAR, ContactParameters, Effects, parameters_with
-from perturb._truncation import TRUNCATIONS
+from perturb.series.truncation import TRUNCATIONS
 
 from ._study_checks import Checked, Invalid, check_atlas, check_continuation, check_folds
 
@@ -145,23 +145,23 @@ STUDIES: dict[str, Study] = {
         ("app",), ("app",), ("comparison",), needs=("pa_frac", "frequency_hz")),
     "continuation": Study(
         {"continued_in": Option("choice", "frequency_hz", choices=("frequency_hz", "pa_frac")),
-         "period": Option("int", 1, 1), **_walk_options("numerics._continuation"),
+         "period": Option("int", 1, 1), **_walk_options("numerics.continuation.walk"),
          "switch_branches": Option("bool", False)},
         (), (), ("continuation",), needs=("pa_frac", "frequency_hz"),
         check=check_continuation),
     "folds": Study(
         {"seed_pa_fracs": Option("floats", None, 0, strict_minimum=True),
-         **_walk_options("numerics._folds")},
+         **_walk_options("numerics.continuation.folds")},
         (), (), ("folds",), needs=("pa_frac", "frequency_hz"), check=check_folds),
     "atlas": Study(
         {"workers": Option("int", None, 1),
-         "steps_per_period": _steps(ApiDefault("numerics._steady", "DEFAULTS",
+         "steps_per_period": _steps(ApiDefault("numerics.steady.shooting", "DEFAULTS",
                                                "steps_per_period")),
-         "tol": Option("float", ApiDefault("numerics._steady", "DEFAULTS", "tol"), 0, 0.5,
+         "tol": Option("float", ApiDefault("numerics.steady.shooting", "DEFAULTS", "tol"), 0, 0.5,
                        strict_minimum=True),
-         "y_over_y0": Option("floats", ApiDefault("numerics._attractors", "DEFAULT_GRID",
+         "y_over_y0": Option("floats", ApiDefault("numerics.steady.census", "DEFAULT_GRID",
                                                   "y_over_y0")),
-         "v_over_omega0_y0": Option("floats", ApiDefault("numerics._attractors", "DEFAULT_GRID",
+         "v_over_omega0_y0": Option("floats", ApiDefault("numerics.steady.census", "DEFAULT_GRID",
                                                          "v_over_omega0_y0")),
          "overlay_folds": Option("bool", False)},
         (), (), ("atlas",), needs=("pa_frac", "frequency_hz"), check=check_atlas),
@@ -229,7 +229,7 @@ class Scene:
     text: str | None
     animation: dict | None
     overrides: dict = field(default_factory=dict)
-    #: Past the ranges where the answers are measured to hold (``numerics._ranges``).
+    #: Past the ranges where the answers are measured to hold (``numerics.simulation.ranges``).
     unchecked: bool = False
 
     @property

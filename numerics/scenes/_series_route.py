@@ -31,9 +31,9 @@ import numpy as np
 from perturb import FULL, eq26_numbers, frequency_response
 from perturb.common import Status
 
-from .._orbits import Orbits
-from .._steady import DEFAULTS
-from .._sweep import Sweep, SweepRun
+from ..steady.orbits import Orbits
+from ..steady.shooting import DEFAULTS
+from ..steady.sweeps import Sweep, SweepRun
 from ._schema import Scene
 from ._studies import StudyRun
 

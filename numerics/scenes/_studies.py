@@ -45,7 +45,7 @@ def _pairs(scene: Scene, grid: np.ndarray) -> list[tuple[float, float]]:
 
 
 def _sweep(scene, model, grid, quiet) -> StudyRun:
-    from .._sweep import sweep
+    from ..steady.sweeps import sweep
 
     keep = bool(_NEED_ORBIT & set(scene.observables))
     result = sweep(grid, scene.pa_frac, direction=scene.options["direction"], model=model,
@@ -57,7 +57,7 @@ def _sweep(scene, model, grid, quiet) -> StudyRun:
 
 
 def _attractors(scene, model, grid, quiet) -> StudyRun:
-    from .._attractors import attractors
+    from ..steady.census import attractors
 
     censuses = [attractors(f, frac, model=model, steps_per_period=scene.options["steps_per_period"],
                            unchecked=scene.unchecked)
@@ -79,7 +79,7 @@ def time_history_record(observables) -> tuple[str, ...]:
 
 
 def _time_history(scene, model, grid, quiet) -> StudyRun:
-    from .._simulate import simulate
+    from ..simulation.rk4 import simulate
 
     pairs = _pairs(scene, grid)
     record = time_history_record(scene.observables)
@@ -93,7 +93,7 @@ def _time_history(scene, model, grid, quiet) -> StudyRun:
 
 
 def _hysteresis(scene, model, grid, quiet) -> StudyRun:
-    from .._hysteresis import hysteresis_loop
+    from ..contact.hysteresis import hysteresis_loop
 
     loops = [hysteresis_loop(f, frac, model=model, periods=scene.options["periods"],
                              steps_per_period=scene.options["steps_per_period"])
@@ -116,7 +116,7 @@ def _analytic(scene, model, grid, quiet) -> StudyRun:
 def _backbone(scene, model, grid, quiet) -> StudyRun:
     from perturb import backbone_series
 
-    from .._backbone import exact_backbone
+    from ..backbone.exact import exact_backbone
 
     exact = exact_backbone(model=model, points=scene.options["points"])
     order, truncation = scene.options["order"], scene.options["truncation"]
@@ -135,7 +135,7 @@ def _derivation(scene, model, grid, quiet) -> StudyRun:
 
 
 def _natural_frequency(scene, model, grid, quiet) -> StudyRun:
-    from .._natural_frequency import natural_frequency_vs_height
+    from ..contact.natural_frequency import natural_frequency_vs_height
 
     heights = natural_frequency_vs_height(parameters=model.parameters,
                                           points=scene.options["points"])
@@ -143,7 +143,7 @@ def _natural_frequency(scene, model, grid, quiet) -> StudyRun:
 
 
 def _comparison(scene, model, grid, quiet) -> StudyRun:
-    from .._compare import compare
+    from ..comparison.study import compare
 
     result = compare(scene.options["orders"], scene.pa_frac, frequency_hz=grid,
                      steps_per_period=scene.options["steps_per_period"],
@@ -167,8 +167,8 @@ def _walk(options: dict) -> dict:
 def _continuation(scene, model, grid, quiet) -> StudyRun:
     """One ``Continuation`` per amplitude over the band ``grid`` (its two ends), or one
     ``ForceContinuation`` per frequency over the range of ``pa_frac``."""
-    from .._continuation import continue_orbits
-    from .._force_continuation import continue_in_force
+    from ..continuation.force import continue_in_force
+    from ..continuation.walk import continue_orbits
 
     opts, walk = scene.options, _walk(scene.options)
     if opts["continued_in"] == "pa_frac":
@@ -180,14 +180,14 @@ def _continuation(scene, model, grid, quiet) -> StudyRun:
                             period=opts["period"], quiet=quiet, **walk)
             for frac in scene.pa_frac]
     if opts["switch_branches"]:
-        from .._branch_switch import with_doubled_branches
+        from ..continuation.branch_switch import with_doubled_branches
 
         runs = [with_doubled_branches(run, quiet=quiet) for run in runs]
     return StudyRun(runs, f"continuation in f_e: {_SHOOTING}")
 
 
 def _folds(scene, model, grid, quiet) -> StudyRun:
-    from .._folds import fold_curves
+    from ..continuation.folds import fold_curves
 
     (fmin, fmax), (pa_min, pa_max) = grid, scene.pa_frac
     folds = fold_curves(float(fmin), float(fmax), pa_min, pa_max, model=model,
@@ -200,7 +200,7 @@ def _folds(scene, model, grid, quiet) -> StudyRun:
 def _atlas(scene, model, grid, quiet) -> StudyRun:
     """The ``Atlas`` of the grid (``grid`` x ``pa_frac``); with ``overlay_folds``, the
     ``FoldCurves`` of the same box after it."""
-    from .._atlas import atlas
+    from ..steady.multistability import atlas
 
     opts = scene.options
     found = atlas(float(grid[0]), float(grid[-1]), scene.pa_frac[0], scene.pa_frac[-1],
@@ -212,7 +212,7 @@ def _atlas(scene, model, grid, quiet) -> StudyRun:
                 "their extrema and y after every step of each attractor's period")
     if not opts["overlay_folds"]:
         return StudyRun([found], recorder)
-    from .._folds import fold_curves
+    from ..continuation.folds import fold_curves
 
     folds = fold_curves(float(grid[0]), float(grid[-1]), scene.pa_frac[0], scene.pa_frac[-1],
                         model=model, quiet=quiet)

@@ -51,7 +51,7 @@ def _api_check(call, *args) -> None:
 
 
 def _check_walk(checked: Checked, period: int) -> None:
-    from numerics._continuation import check_walk
+    from numerics.continuation.walk import check_walk
 
     o = checked.options
     _api_check(check_walk, period, o["ds_max"], o["max_angle"], o["max_points"])
@@ -59,7 +59,7 @@ def _check_walk(checked: Checked, period: int) -> None:
 
 def _check_band(checked: Checked, key: str, frequencies) -> None:
     """Each frequency within the band a branch can be continued in, for this model."""
-    from numerics._continuation import check_band
+    from numerics.continuation.walk import check_band
 
     for f in frequencies:
         try:
@@ -112,8 +112,8 @@ def check_folds(checked: Checked) -> None:
 
 
 def check_atlas(checked: Checked) -> None:
-    from numerics._atlas import MAX_LANES
-    from numerics._attractors import initial_grid
+    from numerics.steady.census import initial_grid
+    from numerics.steady.multistability import MAX_LANES
     from perturb import ContactModel
 
     o = checked.options

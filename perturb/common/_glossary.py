@@ -79,7 +79,7 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "refinements": ("how many times a lane that failed, did not settle, settled with p > 1 "
                     "or under-resolved is solved again with twice the steps", "1", ""),
     "unchecked": ("a study taken past the ranges of f_e, P_a and the contact where the answers "
-                  "are measured to hold (numerics._ranges)", "", ""),
+                  "are measured to hold (numerics.simulation.ranges)", "", ""),
     "tolerance": ("a relative error bound (validity of a series, parting of two models)", "1",
                   ""),
     "truncation": ("which terms of the equation in contact a series keeps: consistent (every "

@@ -36,8 +36,8 @@ from unittest import mock
 
 import numpy as np
 
-from numerics._continuation import _DS_MIN, _DS_START, DEFAULTS, _first_point
-from numerics._continuation_map import NEWTON_ITERATIONS, NEWTON_TOL, PeriodMap, Point
+from numerics.continuation.period_map import NEWTON_ITERATIONS, NEWTON_TOL, PeriodMap, Point
+from numerics.continuation.walk import _DS_MIN, _DS_START, DEFAULTS, _first_point
 from perturb import ContactModel
 
 __all__ = ["INSTALL", "contique_walks", "installed_version", "period_map", "pycont_walks",

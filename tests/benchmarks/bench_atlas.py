@@ -21,7 +21,8 @@ import time
 
 import numpy as np
 
-from numerics import _atlas, atlas, attractors
+from numerics import atlas, attractors
+from numerics.steady import multistability
 from perturb.common import processors
 
 from ._timing import header, median_time, row
@@ -71,14 +72,14 @@ def main() -> None:
 
 def _cells_per_task() -> None:
     """Time per cell against the size of a task (in this process: the batching alone)."""
-    grid, default = (20, 5), _atlas.TASK_LANES
+    grid, default = (20, 5), multistability.TASK_LANES
     times = {}
     try:
         for lanes in (98, 490, 2048, 8192):
-            _atlas.TASK_LANES = lanes
+            multistability.TASK_LANES = lanes
             times[lanes] = median_time(lambda: run(grid=grid, workers=1), REPEATS)
     finally:
-        _atlas.TASK_LANES = default
+        multistability.TASK_LANES = default
     header(f"Time per cell against lanes per task ({grid[0]} x {grid[1]} cells, in this "
            f"process; baseline: 1 cell per task)")
     for lanes, spent in times.items():

@@ -7,12 +7,12 @@ Issue 13's goal: under 0.5 s once compiled. Baselines, measured in the same run:
   (emulated through their module constants), in time and in the Python walk's
   evaluations of R;
 - the walk as before Newton's stop by estimate and the steps past ds_max on large
-  orbits (emulated through ``_continuation_map._ESTIMATED`` and
-  ``_continuation._SIZE_CEILING``), in time, evaluations of R and points;
+  orbits (emulated through ``period_map._ESTIMATED`` and
+  ``walk._SIZE_CEILING``), in time, evaluations of R and points;
 - the walk as before the corner's step grew with the orbit's size and a step that failed
-  below it shrank faster (emulated through ``_continuation._CORNER_CEILING`` and
+  below it shrank faster (emulated through ``walk._CORNER_CEILING`` and
   ``_CORNER_SHRINK``), in time, evaluations of R and points;
-- the time numba takes to compile the walk (``_walk_template``), the walk's cache
+- the time numba takes to compile the walk (``numerics.kernels.walk_template``), the walk's cache
   bypassed, the kernels it calls already compiled (median of 3);
 - continuation packages from the package index, pycont-lite and contique, driving
   ``continue_orbits``' own shooting residual from the same start points over the same
@@ -122,45 +122,47 @@ def _route_rows(run, calls: int, route: str, emulated) -> None:
 
 def _continue_locating_every_fold():
     """``_continue`` with every fold the walk meets located by Brent's method, not only
-    those near a turn of f that is reported (``_continuation._NEAR_TURN``)."""
-    from numerics import _continuation
+    those near a turn of f that is reported (``walk._NEAR_TURN``)."""
+    from numerics.continuation import walk as walk_module
 
-    near, _continuation._NEAR_TURN = _continuation._NEAR_TURN, 10**9
+    near, walk_module._NEAR_TURN = walk_module._NEAR_TURN, 10**9
     try:
         return _continue()
     finally:
-        _continuation._NEAR_TURN = near
+        walk_module._NEAR_TURN = near
 
 
 def _patiently(function):
     """``function()`` with the walk's corrections as before the contraction test and the
     stall hand-over: Newton spends its 12 iterations at a corner, and a step shrinks to
-    ``_DS_MIN`` before a step in f alone is tried (``_continuation_map._CONTRACTION``,
-    ``_continuation._STALL_DS``). The walk down at the coarser N that "auto" no longer
+    ``_DS_MIN`` before a step in f alone is tried (``period_map._CONTRACTION``,
+    ``walk._STALL_DS``). The walk down at the coarser N that "auto" no longer
     makes is not emulated."""
-    from numerics import _continuation, _continuation_map
+    from numerics.continuation import period_map as period_map_module
+    from numerics.continuation import walk as walk_module
 
-    with mock.patch.object(_continuation_map, "_CONTRACTION", np.inf), \
-            mock.patch.object(_continuation, "_STALL_DS", _continuation._DS_MIN):
+    with mock.patch.object(period_map_module, "_CONTRACTION", np.inf), \
+            mock.patch.object(walk_module, "_STALL_DS", walk_module._DS_MIN):
         return function()
 
 
 def _as_before_estimates(function):
-    """``function()`` with the walk as before ``_continuation_map.near_enough`` and
-    ``_continuation.largest_step``: Newton's arclength steps stop by the exact test alone
+    """``function()`` with the walk as before ``period_map.near_enough`` and
+    ``walk.largest_step``: Newton's arclength steps stop by the exact test alone
     (one more evaluation of R), and no step grows past ds_max."""
-    from numerics import _continuation, _continuation_map
+    from numerics.continuation import period_map as period_map_module
+    from numerics.continuation import walk as walk_module
 
-    with mock.patch.object(_continuation_map, "_ESTIMATED", False), \
-            mock.patch.object(_continuation, "_SIZE_CEILING", 1.0):
+    with mock.patch.object(period_map_module, "_ESTIMATED", False), \
+            mock.patch.object(walk_module, "_SIZE_CEILING", 1.0):
         return function()
 
 
 def _corners_as_before(function):
-    """``function()`` with the walk as before ``_continuation.corner_step`` grew the
+    """``function()`` with the walk as before ``walk.corner_step`` grew the
     corner's step with the orbit's size (_CORNER_DS on every orbit) and a step that
     failed below it shrank by _CORNER_SHRINK (halved, as any other)."""
-    from numerics import _continuation as c
+    from numerics.continuation import walk as c
 
     with mock.patch.multiple(c, _CORNER_CEILING=1.0, _CORNER_SHRINK=c._SHRINK):
         return function()
@@ -168,7 +170,7 @@ def _corners_as_before(function):
 
 def _walk_compile_seconds() -> float:
     """The median seconds (of COMPILE_REPEATS) numba takes to compile the paper model's
-    walk (the text that ``_walk_codegen`` generates, with numba's cache off, loaded
+    walk (the text that ``numerics.kernels.walk_codegen`` generates, with numba's cache off, loaded
     afresh from a scratch folder each time) and run its smoke test. The kernels it
     imports are loaded already (compiled, from their cache), so this is the walk's own
     build: a first continuation's wait when the kernels are built and the walk is not,
@@ -178,9 +180,9 @@ def _walk_compile_seconds() -> float:
     import time
     from pathlib import Path
 
-    from numerics import _walk_codegen
+    from numerics.kernels import walk_codegen
 
-    source = _walk_codegen._source(compiled_kernels(ContactModel()))
+    source = walk_codegen._source(compiled_kernels(ContactModel()))
     seconds = []
     with tempfile.TemporaryDirectory() as folder:
         for repeat in range(COMPILE_REPEATS):
@@ -191,7 +193,7 @@ def _walk_compile_seconds() -> float:
             module = importlib.util.module_from_spec(spec)
             spec.loader.exec_module(module)
             start = time.perf_counter()
-            _walk_codegen._smoke(module)
+            walk_codegen._smoke(module)
             seconds.append(time.perf_counter() - start)
     return float(np.median(seconds))
 

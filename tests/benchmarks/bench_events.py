@@ -105,7 +105,7 @@ def _run(tree: Path, cache: Path, snippet: str, *args: str) -> list:
 def _bouncing_starts() -> list[tuple]:
     """For each of CONTACTS: (m2, l, f_e, y, v, y_ref), a state on its bouncing orbit (60
     periods from a flight 2 um up, at 4096 steps) and DOP853's y after 3 periods."""
-    from numerics._reference import reference_last_period
+    from numerics.simulation.reference import reference_last_period
     from perturb import PAPER, ContactModel
     from tests.test_events import _bouncing_start, contact
 

@@ -11,15 +11,15 @@ import sys
 import tempfile
 from pathlib import Path
 
-from numerics._atlas import MAX_LANES
-from numerics._attractors import DEFAULT_GRID
-from numerics._backbone import MAX_POINTS
-from numerics._continuation import MAX_WALK_POINTS
-from numerics._steady import MAX_STEPS
-from numerics._sweep import MAX_STATES
+from numerics.backbone.exact import MAX_POINTS
 from numerics.cli._steady import MAX_STEADY_STEPS
-from perturb._effects import MAX_TAYLOR_DEGREE
-from perturb._slow_orders import SLOW_ORDERS
+from numerics.continuation.walk import MAX_WALK_POINTS
+from numerics.steady.census import DEFAULT_GRID
+from numerics.steady.multistability import MAX_LANES
+from numerics.steady.shooting import MAX_STEPS
+from numerics.steady.sweeps import MAX_STATES
+from perturb.model.effects import MAX_TAYLOR_DEGREE
+from perturb.series.slow_orders import SLOW_ORDERS
 from tests._peak_memory import BUDGET_BYTES, peak_memory
 
 from ._timing import header

@@ -16,8 +16,8 @@ from __future__ import annotations
 import numpy as np
 
 from numerics import attractors, largest_lyapunov
-from numerics._lanes import Lanes
-from numerics._lyapunov import DEFAULTS
+from numerics.kernels.lanes import Lanes
+from numerics.steady.lyapunov import DEFAULTS
 from perturb import ContactModel, eq26_numbers
 
 from ._timing import header, interleaved_medians, row

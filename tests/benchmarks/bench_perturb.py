@@ -41,8 +41,6 @@ from numerics import simulate
 from perturb import (
     EQ_2_6,
     ContactModel,
-    _compiled,
-    _lindstedt,
     backbone_series,
     compile_series,
     derive,
@@ -50,7 +48,9 @@ from perturb import (
     frequency_response,
     series_json,
 )
-from perturb._backbone_series import _exact_series
+from perturb.series import compiled as compiled_module
+from perturb.series import lindstedt
+from perturb.series.free_backbone import _exact_series
 
 from .._response_reference import reference_response
 from ._timing import header, interleaved_medians, median_time, row
@@ -114,9 +114,9 @@ def _derive_everything(order: int) -> None:
 
 def bench_derivation() -> None:
     header("forced, damped derivation of order 4 (target: 10 s; cached afterwards)")
-    _lindstedt._derive.cache_clear()
-    _compiled.compile_series.cache_clear()
-    _compiled.lambdified_series.cache_clear()
+    lindstedt._derive.cache_clear()
+    compiled_module.compile_series.cache_clear()
+    compiled_module.lambdified_series.cache_clear()
     # An empty cache folder: compile_series would otherwise import the formulas from disk.
     with tempfile.TemporaryDirectory() as empty, mock.patch.dict(
             os.environ, {"CONTACT_RESONANCES_CACHE": empty}):

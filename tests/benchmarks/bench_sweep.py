@@ -23,7 +23,8 @@ from unittest import mock
 
 import numpy as np
 
-from numerics import _sweep, _sweep_compiled, compiled_kernels, sweep
+from numerics import compiled_kernels, sweep
+from numerics.steady import sweep_compiled, sweeps
 from perturb import PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel, eq26_numbers
 
 from ._textbook import PARAMETERS, brute_force_sweep, dop853_point
@@ -79,12 +80,12 @@ def dop853(result) -> float:
 def in_one_thread(job):
     """``job`` with the compiled sweep walking all its lanes in one thread."""
     def run():
-        threads = _sweep_compiled.walk_threads
-        _sweep_compiled.walk_threads = lambda lanes, least: 1
+        threads = sweep_compiled.walk_threads
+        sweep_compiled.walk_threads = lambda lanes, least: 1
         try:
             return job()
         finally:
-            _sweep_compiled.walk_threads = threads
+            sweep_compiled.walk_threads = threads
     return run
 
 
@@ -92,7 +93,7 @@ def _without_jump_check(job):
     """``job`` with the sweep's jump check left out (``SweepRun.jumps`` then falls back
     to App's ratio between neighbours)."""
     def run():
-        with mock.patch.object(_sweep, "_check_jumps", lambda runs, model, **accuracy: None):
+        with mock.patch.object(sweeps, "_check_jumps", lambda runs, model, **accuracy: None):
             return job()
     return run
 
@@ -130,7 +131,7 @@ def main() -> None:
            f"steady states")
     row("compiled sweep, warm [s] vs Python-driven (goal 0.1)", warm, warm_python, "s",
         higher_is_better=False)
-    threads = _sweep_compiled.walk_threads(len(result.runs),
+    threads = sweep_compiled.walk_threads(len(result.runs),
                                            compiled_kernels(ContactModel()).VECTOR_LANES)
     row(f"  its lanes in {threads} thread(s), one per core [s] vs in one", threaded,
         one_thread, "s", higher_is_better=False)

@@ -35,11 +35,11 @@ from perturb import (
     PAPER,
     ContactModel,
     ContactParameters,
-    _response,
     eq26_numbers,
     frequency_response,
     series_orbits,
 )
+from perturb.response import frequency as frequency_module
 
 from ._timing import header, interleaved_medians, median_time, row
 
@@ -144,7 +144,7 @@ def bench_cost() -> None:
         "s", higher_is_better=False)
     # The route of "auto" before the compiled kernels are built: the numpy root search on
     # the scheme's numba kernel; and the scheme in numpy.
-    with mock.patch.object(_response, "series_kernels_built", lambda *args: False):
+    with mock.patch.object(frequency_module, "series_kernels_built", lambda *args: False):
         kernel_route = median_time(lambda: frequency_response(frequencies, 0.05, 6),
                                    repeats=3)
     row("  the same, compiled [s] vs the scheme's kernel (auto, not built)", ours,

@@ -1,8 +1,20 @@
 """numerics: a compiled, batched RK4 of the contact model and what is built on it.
 
-The right-hand side is generated from ``perturb.ContactModel`` for the effects a
-scene asks for; see ``simulate``. Every result object keeps the contract of
-``common.Result`` (its model and settings, strict JSON, ``load``).
+The verbs, their result objects and the scenes, by concept (each folder's own
+``__init__`` says what it holds):
+
+- ``simulation``: ``simulate`` (``Simulation``);
+- ``steady``: ``steady_states``, ``sweep``, ``attractors``, ``largest_lyapunov``, ``atlas``;
+- ``continuation``: ``continue_orbits``, ``continue_in_force``, ``switch_branch``,
+  ``fold_curves``;
+- ``backbone``: ``exact_backbone``; ``contact``: Fig. 4 and Fig. 5;
+- ``comparison``: ``compare``, ``series_stability``;
+- ``scenes``: ``run_scene``, a study written as a TOML file.
+
+The compiled kernels that all of them run on are in ``kernels``; ``plots`` draws the
+results and ``cli`` is the command line. The right-hand side is generated from
+``perturb.ContactModel`` for the effects a scene asks for. Every result object keeps
+the contract of ``perturb.common.Result`` (its model and settings, strict JSON, ``load``).
 """
 
 from perturb.common import Status, lazy_names, load
@@ -11,49 +23,44 @@ from perturb.common import Status, lazy_names, load
 # it runs: scipy.optimize (the backbone), sympy (what derives) and the scenes stay
 # out of `python -m numerics sweep`.
 _LAZY = {
-    "Atlas": ".steady.multistability",
-    "atlas": ".steady.multistability",
-    "Attractor": ".steady.census",
-    "Census": ".steady.census",
-    "attractors": ".steady.census",
-    "Backbone": ".backbone.exact",
-    "exact_backbone": ".backbone.exact",
-    "acceleration_source": ".kernels.codegen",
-    "compiled_kernels": ".kernels.codegen",
-    "Bifurcation": ".continuation.walk",
-    "Continuation": ".continuation.walk",
-    "ContinuedBranch": ".continuation.walk",
-    "continue_orbits": ".continuation.walk",
-    "switch_branch": ".continuation.branch_switch",
-    "ForceContinuation": ".continuation.force",
-    "continue_in_force": ".continuation.force",
-    "Comparison": ".comparison.study",
-    "Cusp": ".continuation.folds",
-    "FoldCurve": ".continuation.folds",
-    "FoldCurves": ".continuation.folds",
-    "fold_curves": ".continuation.folds",
-    "compare": ".comparison.study",
-    "HysteresisLoop": ".contact.hysteresis",
-    "hysteresis_loop": ".contact.hysteresis",
-    "drive_table": ".kernels.lanes",
-    "LyapunovExponents": ".steady.lyapunov",
-    "classify_motion": ".steady.lyapunov",
-    "largest_lyapunov": ".steady.lyapunov",
-    "HeightSweep": ".contact.natural_frequency",
-    "natural_frequency_vs_height": ".contact.natural_frequency",
-    "Orbits": ".steady.orbits",
-    "reference_last_period": ".simulation.reference",
-    "RECORDABLE": ".simulation.rk4",
-    "simulate": ".simulation.rk4",
-    "Simulation": ".simulation.result",
-    "SeriesBranchStability": ".comparison.root_stability",
-    "SeriesStability": ".comparison.root_stability",
-    "series_stability": ".comparison.root_stability",
-    "SteadyStates": ".steady.shooting",
-    "steady_states": ".steady.shooting",
-    "Sweep": ".steady.sweeps",
-    "SweepRun": ".steady.sweeps",
-    "sweep": ".steady.sweeps",
+    "Atlas": ".steady",
+    "atlas": ".steady",
+    "Attractor": ".steady",
+    "attractors": ".steady",
+    "Census": ".steady",
+    "classify_motion": ".steady",
+    "largest_lyapunov": ".steady",
+    "LyapunovExponents": ".steady",
+    "Orbits": ".steady",
+    "steady_states": ".steady",
+    "SteadyStates": ".steady",
+    "Sweep": ".steady",
+    "sweep": ".steady",
+    "SweepRun": ".steady",
+    "Bifurcation": ".continuation",
+    "Continuation": ".continuation",
+    "continue_in_force": ".continuation",
+    "continue_orbits": ".continuation",
+    "ContinuedBranch": ".continuation",
+    "Cusp": ".continuation",
+    "fold_curves": ".continuation",
+    "FoldCurve": ".continuation",
+    "FoldCurves": ".continuation",
+    "ForceContinuation": ".continuation",
+    "switch_branch": ".continuation",
+    "Backbone": ".backbone",
+    "exact_backbone": ".backbone",
+    "HeightSweep": ".contact",
+    "hysteresis_loop": ".contact",
+    "HysteresisLoop": ".contact",
+    "natural_frequency_vs_height": ".contact",
+    "compare": ".comparison",
+    "Comparison": ".comparison",
+    "series_stability": ".comparison",
+    "SeriesBranchStability": ".comparison",
+    "SeriesStability": ".comparison",
+    "simulate": ".simulation",
+    "Simulation": ".simulation",
     "SceneRun": ".scenes",
     "read_scene": ".scenes",
     "run_scene": ".scenes",
@@ -80,7 +87,6 @@ __all__ = [
     "HysteresisLoop",
     "LyapunovExponents",
     "Orbits",
-    "RECORDABLE",
     "SceneRun",
     "SeriesBranchStability",
     "SeriesStability",
@@ -89,15 +95,12 @@ __all__ = [
     "SteadyStates",
     "Sweep",
     "SweepRun",
-    "acceleration_source",
     "atlas",
     "attractors",
     "classify_motion",
     "compare",
-    "compiled_kernels",
     "continue_in_force",
     "continue_orbits",
-    "drive_table",
     "exact_backbone",
     "fold_curves",
     "hysteresis_loop",
@@ -105,7 +108,6 @@ __all__ = [
     "load",
     "natural_frequency_vs_height",
     "read_scene",
-    "reference_last_period",
     "run_scene",
     "series_stability",
     "simulate",

@@ -36,7 +36,8 @@ from pathlib import Path
 
 import numpy as np
 
-from numerics import compiled_kernels, steady_states
+from numerics import steady_states
+from numerics.kernels import compiled_kernels
 from numerics.kernels.codegen import kernels_built
 from numerics.scenes import Scene, SceneRun, read_scene, run_scene
 from perturb import (

@@ -210,7 +210,7 @@ def _series_error(response, reference: np.ndarray) -> float:
 def _dop853(ref, quick: bool) -> Method:
     # Imported here: scipy.integrate is for this study alone, whose worker process
     # imports it, not `make paper`'s main process before it starts the workers.
-    from numerics import reference_last_period
+    from numerics.simulation import reference_last_period
 
     method = Method("DOP853", f"rtol ({DOP853_PERIODS} periods from the orbit)")
     for rtol in DOP853_RTOL[:3] if quick else DOP853_RTOL:

@@ -350,13 +350,13 @@ def test_a_walk_at_its_most_points_stays_near_a_fifth_of_a_gigabyte(monkeypatch)
     from numerics.continuation import walk as walk_module
     from numerics.continuation.walk import MAX_WALK_POINTS
 
-    walks, init = [], walk_module._Walk.__init__
+    walks, init = [], walk_module.Walk.__init__
 
     def keep(self, *args, **kwargs):
         init(self, *args, **kwargs)
         walks.append(self)
 
-    monkeypatch.setattr(walk_module._Walk, "__init__", keep)
+    monkeypatch.setattr(walk_module.Walk, "__init__", keep)
     continue_orbits(0.15, 250.0, 1800.0)  # the kernels loaded before the count
     walks.clear()
     gc.collect()
@@ -392,16 +392,16 @@ def test_the_down_walks_marks_stay_on_its_own_branch():
     # pointed into the other branch or past the end.
     from types import SimpleNamespace
 
-    from numerics.continuation.walk import _join, _Mark
+    from numerics.continuation.walk import Mark, join_walks
 
     def walk(f0, df, n, marks, sign):
         return SimpleNamespace(points=[SimpleNamespace(z=np.array([0.0, 0.0, f0 + df * i]))
                                        for i in range(n)], marks=marks, status=Status.FAILED,
                                message="", tangents=[np.array([0.0, 0.0, sign])] * n)
 
-    fold, doubling = _Mark(4, "fold", True, 1e-8), _Mark(3, "period-doubling", False, 0.01)
+    fold, doubling = Mark(4, "fold", True, 1e-8), Mark(3, "period-doubling", False, 0.01)
     up, down = walk(0.2, 0.01, 10, [fold], 1.0), walk(1.2, -0.01, 5, [doubling], -1.0)
-    branches = _join([up, down])
+    branches = join_walks([up, down])
     assert [(len(points), marks) for points, marks, *_ in branches] == [
         (10, [fold]), (5, [doubling._replace(index=1)])]  # point 3 of 5, reversed: 1
 

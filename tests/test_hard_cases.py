@@ -278,7 +278,8 @@ def _rescaled_contact():
 
 
 def test_another_rough_contact_through_loss_of_contact():
-    from numerics import reference_last_period, steady_states
+    from numerics import steady_states
+    from numerics.simulation import reference_last_period
     from perturb import PAPER, eq26_numbers
 
     model = _rescaled_contact()
@@ -468,7 +469,7 @@ def test_chaos_coexists_with_a_periodic_attractor_and_the_census_keeps_it():
     # (rates 0.245 to 0.441 per period; 0.39 at 1024 and 2048 steps too).
     # Guards: chaotic lanes are "not settled" with a message and never counted in an
     # attractor, and the attractors beside them are right (two independent routes).
-    from numerics import reference_last_period
+    from numerics.simulation import reference_last_period
     from perturb import ContactModel
 
     f_e = 1200.0
@@ -612,7 +613,7 @@ def test_a_jump_that_cannot_be_swept_finer_is_flagged(monkeypatch):
     from perturb import PAPER, ContactModel
 
     monkeypatch.setattr(sweeping, "check_steps", refuse)
-    run = sweeping._sweep_lanes(np.linspace(1800.0, 250.0, 621)[None, :],
+    run = sweeping.sweep_points(np.linspace(1800.0, 250.0, 621)[None, :],
                                 np.array([0.15 * PAPER.Q_n]), ContactModel(), True,
                                 steps_per_period=16, tol=1e-6, app_rtol=5e-3,
                                 max_periods=None, method="newton",

@@ -6,7 +6,8 @@ import json
 import numpy as np
 import pytest
 
-from numerics import HysteresisLoop, hysteresis_loop, reference_last_period
+from numerics import HysteresisLoop, hysteresis_loop
+from numerics.simulation import reference_last_period
 from perturb import EQ_2_6, PAPER, PAPER_HYSTERESIS_POINT, ContactModel, eq26_numbers
 from perturb.common import load
 

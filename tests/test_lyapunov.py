@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from numerics import attractors, classify_motion, largest_lyapunov, steady_states
-from numerics.steady.lyapunov import _INITIAL_ANGLE, VERDICTS
+from numerics.steady.lyapunov import INITIAL_ANGLE, VERDICTS
 from perturb import PAPER, ContactModel, eq26_numbers
 from perturb.common import GLOSSARY, Status, load
 from tests.test_hard_cases import _largest_lyapunov_per_period
@@ -43,7 +43,7 @@ def test_its_tangent_is_the_first_column_of_shoot_periods_monodromy_to_the_last_
     # Both step through rk4_step_tangents (lyapunov_periods with a zero second direction):
     # over one period from (dy, dv) = (1, 0), the state is shoot_periods' and the growth
     # is the log of the norm of the monodromy's first column, to the last bit.
-    from numerics import compiled_kernels, drive_table
+    from numerics.kernels import compiled_kernels, drive_table
 
     kernels, q = compiled_kernels(ContactModel()), PAPER.Q_n
     y0 = eq26_numbers(PAPER).y0_m
@@ -141,7 +141,7 @@ def test_the_tangent_agrees_with_two_neighbouring_trajectories(chaos_census):
     for j, i in enumerate(chosen):
         two = _largest_lyapunov_per_period(CHAOS_F_E, lanes.p_a_n[i], lanes.y_start_m[i],
                                            lanes.v_start_m_s[i], 512, periods=1000,
-                                           angle=_INITIAL_ANGLE)
+                                           angle=INITIAL_ANGLE)
         assert abs(run.exponent_per_period[j] - two) < 5e-5, (i, run.exponent_per_period[j], two)
 
 

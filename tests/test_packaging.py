@@ -15,3 +15,56 @@ def test_the_wheel_installs_the_three_packages_and_every_subpackage_of_theirs():
              for top in ("perturb", "numerics", "paper_checks")
              for init in (ROOT / top).rglob("__init__.py")}
     assert packages == found, (packages ^ found)
+
+
+def _subpackages(top: str) -> list[Path]:
+    return sorted(init.parent for init in (ROOT / top).rglob("__init__.py")
+                  if init.parent != ROOT / top)
+
+
+def test_the_packages_are_split_into_concept_folders_with_few_modules_at_the_root():
+    for top in ("perturb", "numerics"):
+        root_modules = sorted(p.name for p in (ROOT / top).glob("*.py"))
+        assert len(root_modules) <= 8, (top, root_modules)
+
+
+def test_every_folder_says_what_it_holds_and_exports_names_it_has():
+    import importlib
+
+    for top in ("perturb", "numerics"):
+        for folder in _subpackages(top):
+            name = str(folder.relative_to(ROOT)).replace("/", ".")
+            module = importlib.import_module(name)
+            assert module.__doc__ and len(module.__doc__.strip()) > 40, name
+            for exported in getattr(module, "__all__", ()):
+                getattr(module, exported)
+
+
+def test_no_folder_is_named_like_a_name_its_package_exports():
+    # A folder imported sets an attribute of its package: a folder named like an
+    # exported function (say `simulate`) would hide that function.
+    import importlib
+
+    for top in ("perturb", "numerics"):
+        for folder in _subpackages(top):
+            parent = str(folder.parent.relative_to(ROOT)).replace("/", ".")
+            assert folder.name not in importlib.import_module(parent).__all__, folder
+
+
+def test_no_private_name_is_imported_across_modules():
+    # A name with a leading underscore belongs to its module: another module that
+    # needs it should find it public, under a name that says what it is.
+    import ast
+
+    crossings = []
+    for top in ("perturb", "numerics", "paper_checks"):
+        for path in (ROOT / top).rglob("*.py"):
+            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+                if isinstance(node, ast.ImportFrom) and node.module != "__future__":
+                    crossings += [(path.name, node.module, alias.name) for alias in node.names
+                                  if alias.name.startswith("_") and alias.name != "__version__"]
+                elif (isinstance(node, ast.Attribute) and node.attr.startswith("_")
+                        and not node.attr.startswith("__") and isinstance(node.value, ast.Name)
+                        and node.value.id.startswith("_") and node.value.id != "_"):
+                    crossings.append((path.name, node.value.id, node.attr))
+    assert not crossings, crossings

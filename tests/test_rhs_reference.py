@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from numerics import compiled_kernels
+from numerics.kernels import compiled_kernels
 from perturb import EQ_2_6, ContactModel, ContactParameters, eq26_numbers
 
 

@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from numerics import compiled_kernels, simulate
+from numerics import simulate
+from numerics.kernels import compiled_kernels
 from perturb import LINEAR, ContactModel, eq26_numbers
 
 
@@ -94,7 +95,7 @@ def test_recording_gives_each_lane_the_numbers_of_its_steps(count):
     # RECORD_BLOCK, then reads each lane's steps: 600 steps are three blocks, the last
     # short. Every lane's numbers are those of it alone, its final state that of the plain
     # march, its extrema the sign changes of v in its history, min and max over them.
-    from numerics import drive_table
+    from numerics.kernels import drive_table
 
     model = ContactModel()
     k, y0, q = compiled_kernels(model), eq26_numbers().y0_m, model.parameters.Q_n

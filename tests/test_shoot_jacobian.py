@@ -4,8 +4,8 @@ the parameter (f_e through dt, or P_a), that continuation's Newton uses."""
 import numpy as np
 import pytest
 
-from numerics import compiled_kernels, drive_table
 from numerics.continuation.period_map import ForceMap, PeriodMap
+from numerics.kernels import compiled_kernels, drive_table
 from perturb import ContactModel, eq26_numbers
 
 STEPS = 256

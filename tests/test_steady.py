@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from numerics import compiled_kernels, drive_table, steady_states, sweep
+from numerics import steady_states, sweep
+from numerics.kernels import compiled_kernels, drive_table
 from perturb import PAPER, ContactModel, eq26_numbers
 
 
@@ -158,7 +159,7 @@ def test_bad_input_is_named(kwargs, message):
 def test_steady_states_agree_with_the_dop853_reference(weight):
     # Route 2: scipy's DOP853 on the model's lambdified expressions, restarted at every
     # y = 0 crossing, 30 periods from the orbit that shooting found.
-    from numerics import reference_last_period
+    from numerics.simulation import reference_last_period
 
     points = [(0.05, 1420.0), (0.15, 740.0), (0.5, 1200.0)]
     f = np.array([p[1] for p in points])

@@ -1,14 +1,14 @@
-"""The approach check of continuation (``_Batch.follows``): decided after _VERIFY_FIRST
-periods where the march follows the orbit's linearisation, after _VERIFY_PERIODS
-otherwise; its verdicts are those of the one-stage check of _VERIFY_PERIODS it replaced
-(the Python route with ``_VERIFY_FIRST = _VERIFY_PERIODS`` is that check)."""
+"""The approach check of continuation (``Batch.follows``): decided after VERIFY_FIRST
+periods where the march follows the orbit's linearisation, after VERIFY_PERIODS
+otherwise; its verdicts are those of the one-stage check of VERIFY_PERIODS it replaced
+(the Python route with ``VERIFY_FIRST = VERIFY_PERIODS`` is that check)."""
 
 import numpy as np
 import pytest
 
 from numerics import steady_states, sweep
 from numerics.steady import shooting
-from numerics.steady.shooting import _Batch
+from numerics.steady.shooting import Batch
 from perturb import PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
 
 #: Columns that must not move when only the cost of the check changes.
@@ -17,8 +17,8 @@ SAME = ("status", "period", "app_m", "ymin_m", "ymax_m", "y_start_m", "v_start_m
 
 
 def one_stage(monkeypatch):
-    """The check as it was: every lane marches _VERIFY_PERIODS, one verdict."""
-    monkeypatch.setattr(shooting, "_VERIFY_FIRST", shooting._VERIFY_PERIODS)
+    """The check as it was: every lane marches VERIFY_PERIODS, one verdict."""
+    monkeypatch.setattr(shooting, "VERIFY_FIRST", shooting.VERIFY_PERIODS)
 
 
 def assert_same_points(staged, single):
@@ -58,24 +58,24 @@ def test_a_lane_that_approaches_then_departs_is_not_accepted_early():
     assert run.frequency_hz[jumped] == 1375.0 and run.method[jumped] == "march+newton"
     assert run.app_m[jumped] < 0.3 * run.app_m[seed]
     model = ContactModel()
-    batch = _Batch(model, np.array([1375.0]), np.array([0.05 * PAPER.Q_n]), 128, 1e-6)
+    batch = Batch(model, np.array([1375.0]), np.array([0.05 * PAPER.Q_n]), 128, 1e-6)
     y, v = run.y_start_m[[seed]], run.v_start_m_s[[seed]]
     span = run.app_m[[seed]]
     monodromy = np.empty((1, 2, 2))
     ok, y_orbit, v_orbit, _, shot = batch.newton([0], y, v, 1, span,
-                                                 shooting._REACH_CONTINUATION, monodromy)
+                                                 shooting.REACH_CONTINUATION, monodromy)
     assert ok[0]  # Newton continued the big orbit, stable by its multipliers
     scale = batch.scale(span)
     before = batch.distance([0], y - y_orbit, v - v_orbit, scale)
     ym, vm = y.copy(), v.copy()
-    batch.advance(ym, vm, shooting._VERIFY_FIRST, np.full(1, -1))
+    batch.advance(ym, vm, shooting.VERIFY_FIRST, np.full(1, -1))
     after = batch.distance([0], ym - y_orbit, vm - v_orbit, scale)
-    assert after[0] < shooting._VERIFY_SHRINK * before[0]  # measured 0.31 of it
+    assert after[0] < shooting.VERIFY_SHRINK * before[0]  # measured 0.31 of it
     # ... but it left the orbit's linearisation (by 0.36 of the first distance, 18 times
-    # _VERIFY_LINEAR), so the check marches on, and rejects it.
-    ly, lv = shooting._propagate(monodromy, y - y_orbit, v - v_orbit, shooting._VERIFY_FIRST)
+    # VERIFY_LINEAR), so the check marches on, and rejects it.
+    ly, lv = shooting._propagate(monodromy, y - y_orbit, v - v_orbit, shooting.VERIFY_FIRST)
     deviation = batch.distance([0], ym - y_orbit - ly, vm - v_orbit - lv, scale)
-    assert deviation[0] > 10 * shooting._VERIFY_LINEAR * before[0]
+    assert deviation[0] > 10 * shooting.VERIFY_LINEAR * before[0]
     assert not batch.follows(np.array([0]), y, v, y_orbit, v_orbit, 1, span, monodromy,
                              shot)[0]
 

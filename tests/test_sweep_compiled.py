@@ -18,7 +18,7 @@ import pytest
 
 from numerics import sweep
 from numerics.kernels.codegen import sweep_driver_built
-from numerics.steady.sweeps import _sweep_lanes
+from numerics.steady.sweeps import sweep_points
 from perturb import EQ_2_6, FULL, PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
 from perturb.common import Status
 
@@ -27,7 +27,7 @@ from perturb.common import Status
 ESTIMATE_RTOL = 1e-13
 #: The multipliers: measured at most 7.8e-16 relative, 5.8e-16 absolute (a few ulp).
 MULTIPLIER_RTOL, MULTIPLIER_ATOL = 1e-14, 1e-15
-#: A sweep's default accuracy, as _sweep_lanes takes it.
+#: A sweep's default accuracy, as sweep_points takes it.
 ACCURACY = dict(steps_per_period="auto", tol=1e-6, app_rtol=5e-3, max_periods=None,
                 method="newton", refinements=2, keep_orbits=False)
 
@@ -151,8 +151,8 @@ def test_continuing_from_given_orbits_matches_the_python_walk():
     start = first.runs[0].stack([r.take([0]) for r in first.runs])
     freq = np.array([[1310.0, 1320.0, 1330.0], [1290.0, 1280.0, 1270.0]])
     p_a = np.array([0.05, 0.2]) * PAPER.Q_n
-    compiled = _sweep_lanes(freq, p_a, model, True, start=start, engine="compiled", **ACCURACY)
-    python = _sweep_lanes(freq, p_a, model, True, start=start, engine="python", **ACCURACY)
+    compiled = sweep_points(freq, p_a, model, True, start=start, engine="compiled", **ACCURACY)
+    python = sweep_points(freq, p_a, model, True, start=start, engine="python", **ACCURACY)
     assert_same_points(compiled, python)
 
 
@@ -199,7 +199,7 @@ def test_an_unsettled_seed_is_refused_by_both_engines():
     start.period[:] = 0
     for engine in ("compiled", "python"):
         with pytest.raises(ValueError, match="`period_guess` must be one of"):
-            _sweep_lanes(np.array([[1310.0]]), np.array([0.05 * PAPER.Q_n]), ContactModel(),
+            sweep_points(np.array([[1310.0]]), np.array([0.05 * PAPER.Q_n]), ContactModel(),
                          True, start=start, engine=engine, **ACCURACY)
 
 
@@ -242,9 +242,9 @@ def test_a_walk_cut_into_one_point_blocks_matches_the_python_sweep(monkeypatch):
     monkeypatch.setattr(sweep_compiled, "BLOCK_SECONDS", 0.0)
     done = []
     freq = np.linspace(1300.0, 1500.0, 9)
-    blocks = _sweep_lanes(freq[None, :], np.array([0.2 * PAPER.Q_n]), ContactModel(), True,
+    blocks = sweep_points(freq[None, :], np.array([0.2 * PAPER.Q_n]), ContactModel(), True,
                           engine="compiled", **ACCURACY)
-    python = _sweep_lanes(freq[None, :], np.array([0.2 * PAPER.Q_n]), ContactModel(), True,
+    python = sweep_points(freq[None, :], np.array([0.2 * PAPER.Q_n]), ContactModel(), True,
                           engine="python", **ACCURACY)
     assert_same_points(blocks, python)
     monkeypatch.setattr(sweep_compiled, "BLOCK_SECONDS", 1e9)  # one block: the whole walk

@@ -119,9 +119,9 @@ def test_a_damaged_walk_file_is_written_and_compiled_again(tmp_path, monkeypatch
 
 
 def test_the_compiled_walk_reads_each_number_where_python_writes_it(monkeypatch):
-    # The settings array is filled in _Walk.__init__ (and PeriodMap.newton_settings) and
+    # The settings array is filled in Walk.__init__ (and PeriodMap.newton_settings) and
     # read by index in the template: each index must hold the number of its name. Numbers
-    # that are equal by default (_SIZE_CEILING and _CORNER_CEILING 20, _SHRINK and
+    # that are equal by default (_SIZE_CEILING and _CORNER_CEILING 20, SHRINK and
     # _CONTRACTION 0.5, ds_max and _STRAIGHT 0.03) are made distinct here, and all are
     # checked to be, so that two indices swapped fail.
     from numerics.continuation import period_map as m
@@ -130,10 +130,10 @@ def test_the_compiled_walk_reads_each_number_where_python_writes_it(monkeypatch)
     monkeypatch.setattr(c, "_CORNER_CEILING", 21.0)
     monkeypatch.setattr(m, "_CONTRACTION", 0.55)
     shoot = m.ForceMap(ContactModel(), 1400.0, 512, 1)
-    walk = c._Walk(shoot, 0.01, 0.2, 1, 0.031, 0.07, 10, None)
+    walk = c.Walk(shoot, 0.01, 0.2, 1, 0.031, 0.07, 10, None)
     module = shoot.walker
-    expected = {"_DS_MIN": c._DS_MIN, "_DS_MAX": 0.031, "_MAX_ANGLE": 0.07, "_GROW": c._GROW,
-                "_SHRINK": c._SHRINK, "_CORNER_DS": c._CORNER_DS, "_EASY": c._EASY_ITERATIONS,
+    expected = {"DS_MIN": c.DS_MIN, "_DS_MAX": 0.031, "_MAX_ANGLE": 0.07, "GROW": c.GROW,
+                "SHRINK": c.SHRINK, "_CORNER_DS": c._CORNER_DS, "_EASY": c.EASY_ITERATIONS,
                 "_STALL": c._STALL_DS,
                 "_TOL": m.NEWTON_TOL, "_ITERATIONS": m.NEWTON_ITERATIONS,
                 "_REACH": m._NEWTON_REACH, "_BACKTRACKS": m._BACKTRACKS,
@@ -164,7 +164,7 @@ def test_the_corners_step_grows_with_the_orbit_but_not_past_ds_max():
                                (0.005, 28.0, 0.005), (0.005, 6.0, 0.003),
                                (5e-4, 1.0, 5e-4)]:
         z = np.array([0.6 * size, -0.8 * size, 0.3])
-        settings = c._Walk(shoot, 250.0, 1800.0, 1, ds_max, 0.1, 10, None).settings
+        settings = c.Walk(shoot, 250.0, 1800.0, 1, ds_max, 0.1, 10, None).settings
         # rel 1e-12: the round-off of |(y, v)| alone (0.6 and 0.8 are not exact in binary).
         assert c.corner_step(z, ds_max) == pytest.approx(step, rel=1e-12), (ds_max, size)
         assert module.corner_step(z, settings) == c.corner_step(z, ds_max), (ds_max, size)
@@ -222,7 +222,7 @@ def test_a_bifurcation_that_cannot_be_located_is_marked_not_lost(
     f_tol = c.LOCATE_TOL * eq26_numbers().f_n0_hz
     assert all(b.frequency_tol_hz == pytest.approx(f_tol, rel=5e-8) and b.pa_frac_tol == 0.0
                for b in located)
-    monkeypatch.setattr(c._Walk, "_locate", lambda self, *args: None)
+    monkeypatch.setattr(c.Walk, "_locate", lambda self, *args: None)
     marked = [b for b in continue_orbits(pa_frac, *band, engine=engine).bifurcations
               if b.kind == kind]
     assert [b.located for b in marked] == [False] * len(errors_hz)

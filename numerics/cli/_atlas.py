@@ -9,7 +9,7 @@ from perturb.common import int_at_least, nonnegative_float, note, plot_file
 from perturb.model.set_option import model_parameters
 
 from ._errors import option_error
-from ._steady import _accuracy_options, add_band_options, report
+from ._steady import accuracy_options, add_band_options, report
 
 __all__ = ["add_atlas_parser"]
 
@@ -35,7 +35,7 @@ def add_atlas_parser(sub) -> None:
                        "(e.g. tcp://host:8786; needs `pip install .[distributed]`)")
     parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="the map of the number of attractors per cell")
-    _accuracy_options(parser)
+    accuracy_options(parser)
     parser.set_defaults(run=_atlas, parser=parser)
 
 

@@ -16,7 +16,7 @@ from perturb.model.set_option import add_model_option, model_parameters
 from perturb.series.truncation import TRUNCATIONS
 
 from ._errors import option_error
-from ._steady import _steps, add_band_options, check_band, report
+from ._steady import add_band_options, check_band, report, walk_steps_option
 
 __all__ = ["add_continue_parser"]
 
@@ -49,7 +49,7 @@ def add_continue_parser(sub) -> None:
     in_force.add_argument("--pa-max", type=positive_float, help="largest P_a / Q")
     parser.add_argument("--period", type=int_at_least(1, 8), default=1,
                         help="p of the orbit continued (default 1)")
-    parser.add_argument("--steps", type=_steps, default="auto",
+    parser.add_argument("--steps", type=walk_steps_option, default="auto",
                         help="RK4 steps per period, fixed along the branch: an integer >= 4 "
                         "or 'auto' (the default: at least 512)")
     parser.add_argument("--json", metavar="FILE", type=output_file,

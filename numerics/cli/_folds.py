@@ -8,7 +8,7 @@ from perturb import FULL, ContactModel
 from perturb.common import output_file, plot_file, positive_float
 from perturb.model.set_option import add_model_option, model_parameters
 
-from ._steady import _steps, add_band_options, check_band, report
+from ._steady import add_band_options, check_band, report, walk_steps_option
 
 __all__ = ["add_folds_parser"]
 
@@ -22,7 +22,7 @@ def add_folds_parser(sub) -> None:
     parser.add_argument("--seed-pa-frac", type=positive_float, nargs="+", metavar="PA",
                         help="P_a / Q at which one-parameter continuation looks for folds to "
                         "start from (default: --pa-max and the band's middle)")
-    parser.add_argument("--steps", type=_steps, default="auto",
+    parser.add_argument("--steps", type=walk_steps_option, default="auto",
                         help="RK4 steps per period, fixed over the box: an integer >= 4 or "
                         "'auto' (the default: at least 512)")
     parser.add_argument("--json", metavar="FILE", type=output_file,

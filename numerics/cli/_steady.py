@@ -25,7 +25,7 @@ from ..steady.sweeps import DIRECTIONS, MAX_STATES, sweep
 __all__ = ["add_sweep_parser", "add_attractors_parser"]
 
 
-def _steps(text: str) -> int | str:
+def walk_steps_option(text: str) -> int | str:
     """--steps of a walk (continue, folds): "auto" or an integer from 4 to MAX_STEPS (2^20:
     at the paper's contact a continuation at that N holds 240 MB, tests/benchmarks/
     bench_limits.py)."""
@@ -44,7 +44,7 @@ def _steady_steps(text: str) -> int | str:
         f"up to the steps bound of every command, 2^20")(text)
 
 
-def _accuracy_options(parser: argparse.ArgumentParser) -> None:
+def accuracy_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--steps", type=_steady_steps, default=DEFAULTS["steps_per_period"],
                         help=f"RK4 steps per period, an integer from 4 to {MAX_STEADY_STEPS} "
                         "or 'auto' (at least 128, more at low f_e; the default)")
@@ -69,7 +69,7 @@ def add_sweep_parser(sub) -> None:
     parser.add_argument("--direction", choices=DIRECTIONS, default="both")
     parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="Fig. 2 there, and Fig. 3 beside it (FILE-extrema.png)")
-    _accuracy_options(parser)
+    accuracy_options(parser)
     parser.set_defaults(run=_sweep, parser=parser)
 
 
@@ -136,7 +136,7 @@ def add_attractors_parser(sub) -> None:
     parser = sub.add_parser("attractors", help="coexisting steady states at one (P_a, f_e)")
     parser.add_argument("--pa-frac", type=nonnegative_float, required=True, help="P_a / Q")
     parser.add_argument("--fe", type=positive_float, required=True, help="f_e [Hz]")
-    _accuracy_options(parser)
+    accuracy_options(parser)
     parser.set_defaults(run=_attractors, parser=parser)
 
 

@@ -201,7 +201,7 @@ def _responses(response, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return app, valid
 
 
-def _relative_difference(series: np.ndarray, rk4: np.ndarray) -> np.ndarray:
+def relative_difference(series: np.ndarray, rk4: np.ndarray) -> np.ndarray:
     """|series / rk4 - 1|; 0 where both are 0 (no force: rest), inf where only rk4 is."""
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.abs(series / rk4 - 1)
@@ -211,7 +211,7 @@ def _relative_difference(series: np.ndarray, rk4: np.ndarray) -> np.ndarray:
 def _nearest(app: np.ndarray, valid: np.ndarray, rows: np.ndarray, target: np.ndarray):
     """Per state, the analytic root of its frequency nearest in App, and whether it is valid."""
     candidates = app[rows]
-    distance = _relative_difference(candidates, target[:, None])
+    distance = relative_difference(candidates, target[:, None])
     best = np.argmin(np.where(np.isnan(distance), np.inf, distance), axis=1)
     picked = candidates[np.arange(rows.size), best]
     return picked, valid[rows, best] & np.isfinite(picked)
@@ -286,7 +286,7 @@ def compare_response(
     frequency, app = curve.frequency_hz[keep], curve.app_m[keep]
     nearest, valid = _nearest(app_table, valid_table, np.searchsorted(grid, frequency), app)
     series = np.where(valid & (app <= app_limit_m), nearest, np.nan)
-    error = _relative_difference(series, app)
+    error = relative_difference(series, app)
     unmatched = error > UNMATCHED
     matched = np.isfinite(error) & ~unmatched
     shown = np.where(valid_table, app_table, np.nan).ravel()

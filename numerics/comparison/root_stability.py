@@ -29,7 +29,7 @@ from perturb import ContactModel, Response, eq26_numbers, series_orbits
 from perturb.common import Result, Status, check_int, check_positive, result
 
 from ..continuation.period_map import NEWTON_TOL
-from ..steady.shooting import _SPAN_FLOOR, _Batch, _eigenvalues, _solve_2x2
+from ..steady.shooting import SPAN_FLOOR, Batch, eigenvalues, solve_2x2
 
 __all__ = ["SeriesBranchStability", "SeriesStability", "series_stability", "DEFAULTS"]
 
@@ -38,7 +38,7 @@ DEFAULTS = {"steps_per_period": 512, "reach": 4.0}
 #: measured (N = 512 against N = 4096, order-6 roots at 0.05 and 0.15 Q, 250-1600 Hz) at
 #: most 0.28 of it, at the 1/2 superharmonic peak (742 Hz, 0.15 Q).
 _RK4_ERROR_ORDER = 4
-#: ``_Batch.newton`` stops when a step is below tol * 1e-3 (of y0): this tol makes that
+#: ``Batch.newton`` stops when a step is below tol * 1e-3 (of y0): this tol makes that
 #: the continuation's corrector tolerance, NEWTON_TOL (1e-10 y0).
 _NEWTON_BATCH_TOL = NEWTON_TOL * 1e3
 
@@ -234,23 +234,23 @@ MOST_ALLOWED = 0.5
 
 def _shoot(model, lanes: _Roots, p_a: float, steps: int) -> _Found:
     """Newton on the RK4 period map of Eq. 2.6 from the series' states, all lanes at once
-    (``_Batch.newton``: one kernel call per iteration), then one more call at the result:
+    (``Batch.newton``: one kernel call per iteration), then one more call at the result:
     its monodromy gives the multipliers, and the Newton step it gives says whether Newton
-    converged (``_Batch.newton`` folds that into one flag with stability)."""
+    converged (``Batch.newton`` folds that into one flag with stability)."""
     n = lanes.f.size
     if not n:
         return _Found(np.empty(0), np.empty(0), np.empty((0, 2), dtype=complex),
                       np.empty(0, dtype=bool))
-    batch = _Batch(model, lanes.f, np.full(n, p_a), steps, _NEWTON_BATCH_TOL)
+    batch = Batch(model, lanes.f, np.full(n, p_a), steps, _NEWTON_BATCH_TOL)
     index = np.arange(n)
     _, y, v, _, _ = batch.newton(index, lanes.y, lanes.v, 1, lanes.app, np.inf)
     with np.errstate(all="ignore"):
         yp, vp, monodromy = y.copy(), v.copy(), np.empty((n, 2, 2))
         batch.kernels.shoot_periods(yp, vp, batch.dt, batch.p_a, batch.drive, 1, monodromy)
-        step_y, step_v = _solve_2x2(monodromy - np.eye(2), y - yp, v - vp)
+        step_y, step_v = solve_2x2(monodromy - np.eye(2), y - yp, v - vp)
         size = batch.distance(index, step_y, step_v, batch.length)
     converged = np.isfinite(size) & (size < NEWTON_TOL)
-    return _Found(y, v, _eigenvalues(monodromy), converged)
+    return _Found(y, v, eigenvalues(monodromy), converged)
 
 
 def _verdict(lanes: _Roots, found: _Found, model, steps: int, reach: float):
@@ -258,7 +258,7 @@ def _verdict(lanes: _Roots, found: _Found, model, steps: int, reach: float):
     numbers = eq26_numbers(model.parameters)
     omega = 2 * np.pi * lanes.f
     # Relative to App/2 (v to Omega App/2), App at least a thousandth of y0 (at rest).
-    half = np.maximum(lanes.app, _SPAN_FLOOR * numbers.y0_m) / 2
+    half = np.maximum(lanes.app, SPAN_FLOOR * numbers.y0_m) / 2
 
     def distance_to(y, v):
         with np.errstate(all="ignore"):

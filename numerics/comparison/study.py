@@ -31,8 +31,8 @@ from .responses import (
     MODELS,
     ResponseComparison,
     SteadyCurve,
-    _relative_difference,
     compare_response,
+    relative_difference,
     steady_curves,
 )
 
@@ -118,7 +118,7 @@ def model_parting(eq26: SteadyCurve, full: SteadyCurve, tolerance: float) -> dic
     by the spring's terms above the quadratic); otherwise by contact loss.
     """
     both = eq26.settled & full.settled & np.isfinite(eq26.app_m) & np.isfinite(full.app_m)
-    differ = both & (_relative_difference(full.app_m, eq26.app_m) > tolerance)
+    differ = both & (relative_difference(full.app_m, eq26.app_m) > tolerance)
     lost = differ & full.contact_lost
     return {
         "states": int(both.sum()),

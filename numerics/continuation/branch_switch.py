@@ -11,7 +11,7 @@ orthogonal to t, phi: Newton on R_2p = 0 with the extra equation
 phi . (z - z*) = delta lands on it, a step delta from x*, and not on the old
 branch, which meets that hyperplane only far away (it is tangent to phi's
 orthogonal complement at z*). From there the new branch is walked like any other
-(``walk._Walk``), with the same step control and the same bifurcation tests.
+(``walk.Walk``), with the same step control and the same bifurcation tests.
 """
 
 from __future__ import annotations
@@ -24,7 +24,15 @@ from perturb import ContactModel
 from perturb.common import Status
 
 from .period_map import PeriodMap
-from .walk import PERIODS_TRIED, Bifurcation, Continuation, _Coverage, _join, _results, _Walk
+from .walk import (
+    PERIODS_TRIED,
+    Bifurcation,
+    Continuation,
+    Coverage,
+    Walk,
+    branch_results,
+    join_walks,
+)
 
 __all__ = ["switch_branch", "with_doubled_branches"]
 
@@ -88,10 +96,10 @@ def switch_branch(run: Continuation, bifurcation: Bifurcation, *, quiet: bool = 
     z_star = old.scaled(branch.y_start_m[at][0], branch.v_start_m_s[at][0],
                         bifurcation.frequency_hz)
     doubling = old.correct(z_star, np.array([0.0, 0.0, 1.0]), z_star[2])
-    bar = _Coverage(settings["fmin_hz"], settings["fmax_hz"], quiet)
-    first, phi = (None, None) if doubling is None else _first_point(old, new, doubling)
+    bar = Coverage(settings["fmin_hz"], settings["fmax_hz"], quiet)
+    first, phi = (None, None) if doubling is None else first_point(old, new, doubling)
     if first is None:
-        walk = _Walk(new, settings["fmin_hz"], settings["fmax_hz"], 1, settings["ds_max"],
+        walk = Walk(new, settings["fmin_hz"], settings["fmax_hz"], 1, settings["ds_max"],
                      settings["max_angle"], settings["max_points"], bar)
         walk.end(Status.FAILED, "Newton found no period-doubled orbit next to the doubling "
                  f"at {bifurcation.frequency_hz:.6g} Hz")
@@ -99,11 +107,11 @@ def switch_branch(run: Continuation, bifurcation: Bifurcation, *, quiet: bool = 
         # The side of the doubling in f where the new orbits exist (they split off as
         # the square root of the distance in f past it).
         direction = 1 if first.z[2] >= doubling.z[2] else -1
-        walk = _Walk(new, settings["fmin_hz"], settings["fmax_hz"], direction,
+        walk = Walk(new, settings["fmin_hz"], settings["fmax_hz"], direction,
                      settings["ds_max"], settings["max_angle"], settings["max_points"], bar)
         walk.run(first, away=phi)
     bar.close()
-    branches, bifurcations = _results(new, model, _join([walk]))
+    branches, bifurcations = branch_results(new, model, join_walks([walk]))
     return Continuation(pa_frac=run.pa_frac, branches=branches, bifurcations=bifurcations,
                         model=run.model,
                         settings=settings | {"switched_at_hz": [bifurcation.frequency_hz]},
@@ -135,7 +143,7 @@ def _branch_through(run: Continuation, bifurcation: Bifurcation):
     raise ValueError(f"no branch of `run` holds {bifurcation.summary()}")
 
 
-def _first_point(old: PeriodMap, new: PeriodMap, doubling):
+def first_point(old: PeriodMap, new: PeriodMap, doubling):
     """The first point of the doubled branch, a step off the doubling along phi, and phi
     (both signs of phi give the same orbit, half a doubled period apart); (None, None)
     when Newton finds none off the old branch."""

@@ -57,18 +57,18 @@ from perturb.common import Result, Status, check_positive, progress, result
 from ..kernels.lanes import Lanes
 from ..simulation.rk4 import check_model
 from .period_map import PeriodMap, Point
+from .walk import DEFAULTS as _CONTINUATION_DEFAULTS
 from .walk import (
-    _DS_MIN,
-    _DS_START,
-    _EASY_ITERATIONS,
-    _GROW,
-    _SHRINK,
+    DS_MIN,
+    DS_START,
+    EASY_ITERATIONS,
+    GROW,
     LOCATE_TOL,
+    SHRINK,
     Bifurcation,
     check_walk,
     continue_orbits,
 )
-from .walk import DEFAULTS as _CONTINUATION_DEFAULTS
 
 __all__ = ["Cusp", "FoldCurve", "FoldCurves", "fold_curves", "DEFAULTS"]
 
@@ -425,7 +425,7 @@ def _trace(fold_map: FoldMap, w, box, ds_max, max_angle, max_points):
     first = fold_map.correct(w, _E_A, w[3])
     if first is None:
         return None
-    walks = [_Walk(fold_map, box, ds_max, max_angle, max_points) for _ in (0, 1)]
+    walks = [Walk(fold_map, box, ds_max, max_angle, max_points) for _ in (0, 1)]
     for walk, direction in zip(walks, (-1.0, 1.0)):
         walk.run(first, direction)
     down, up = walks
@@ -438,7 +438,7 @@ def _trace(fold_map: FoldMap, w, box, ds_max, max_angle, max_points):
     return points, cusps, status, "; ".join(messages)
 
 
-class _Walk:
+class Walk:
     """One direction of a fold curve from its seed, step by step, with the cusps met."""
 
     def __init__(self, fold_map: FoldMap, box, ds_max, max_angle, max_points):
@@ -458,12 +458,12 @@ class _Walk:
         along_a = direction * _E_A
         self.orientation = first.orientation(first.tangent(_E_A, 1.0) * direction) or 1.0
         self._keep(first, first.tangent(along_a, self.orientation))
-        ds = _DS_START
+        ds = DS_START
         while len(self.points) < self.max_points:
             step = self._step(ds)
             if step is None:
                 _, _, f, a = self.map.physical(self.points[-1].z)
-                self._end(f"step below {_DS_MIN:g} at f_e = {f:.6g} Hz, P_a = {a:.6g} Q: "
+                self._end(f"step below {DS_MIN:g} at f_e = {f:.6g} Hz, P_a = {a:.6g} Q: "
                           "Newton does not converge there")
                 return
             point, t, ds = step
@@ -488,7 +488,7 @@ class _Walk:
     def _step(self, ds: float):
         """One accepted step from the last point: (point, tangent, next ds), or None."""
         z, t = self.points[-1].z, self.tangents[-1]
-        while ds >= _DS_MIN:
+        while ds >= DS_MIN:
             point = self.map.correct(z + ds * t, t, t @ z + ds)
             if point is not None:
                 t_new = point.tangent(t, self.orientation)
@@ -497,9 +497,9 @@ class _Walk:
                 # sharp turns over short steps were measured to crawl there (2000 points
                 # over 1 Hz at 0.065 Q, 1198 Hz) instead of getting through.
                 if np.arccos(np.clip(t_new @ t, -1.0, 1.0)) <= self.max_angle:
-                    grow = point.iterations <= _EASY_ITERATIONS
-                    return point, t_new, min(ds * _GROW, self.ds_max) if grow else ds
-            ds *= _SHRINK
+                    grow = point.iterations <= EASY_ITERATIONS
+                    return point, t_new, min(ds * GROW, self.ds_max) if grow else ds
+            ds *= SHRINK
         return None
 
     def _cusp(self, point: Point, t: np.ndarray) -> None:

@@ -77,12 +77,12 @@ _AUTO_MIN_STEPS = 512
 _AUTO_MAX_STEPS = 2048
 #: How the message of a walk that stopped at a corner begins.
 _STUCK = "step below"
-_DS_START = 1e-3  # the first step, in z
-_DS_MIN = 1e-9  # below it the continuation gives up
+DS_START = 1e-3  # the first step, in z
+DS_MIN = 1e-9  # below it the continuation gives up
 #: A step that shrinks below this (in z) has stalled at a corner of the map where the
 #: branch turns back (the arclength's plane beyond the corner meets no branch, and the
 #: steps creep towards the corner, ever shorter): a step in f alone is tried then, and
-#: only if none is taken does the step go on shrinking to _DS_MIN. At 0.15 Q, N = 1024,
+#: only if none is taken does the step go on shrinking to DS_MIN. At 0.15 Q, N = 1024,
 #: the walk spent some 3,600 of its 12,900 evaluations of R within 350-370 Hz on steps
 #: below 1e-5 (2026-11-23, Python walk).
 _STALL_DS = 1e-5
@@ -94,12 +94,12 @@ _STALL_DS = 1e-5
 #: 352.38-361.38 Hz on the walk up at N = 1024, each a move of 5.9e-4 or more in z (the 9
 #: of them that are arclength steps, 8.4e-4 or more; 2026-11-24, Python walk, after
 #: ``corner_step``; 47 over 1.3e-4 or more on 2026-11-23).
-_GROW, _SHRINK = 1.5, 0.5
+GROW, SHRINK = 1.5, 0.5
 #: A step whose tangent turns by more than max_angle is shortened by this share of
-#: max_angle over the turn (the turn grows with the step), by _SHRINK at least. At 0.17 Q,
-#: N = 2048, the bouncing fold is then located; with _SHRINK alone it was only marked
+#: max_angle over the turn (the turn grows with the step), by SHRINK at least. At 0.17 Q,
+#: N = 2048, the bouncing fold is then located; with SHRINK alone it was only marked
 #: (2026-11-23, before the larger steps on straight orbits: the walks then ended 5.8 Hz
-#: apart, 263.8 and 269.6 Hz, against 7.5 Hz with _SHRINK alone). With ``corner_step``
+#: apart, 263.8 and 269.6 Hz, against 7.5 Hz with SHRINK alone). With ``corner_step``
 #: and _CORNER_SHRINK (2026-11-24) both engines end at 263.66 and 269.60 Hz, and the
 #: bouncing fold is only marked (263.29 Hz, +-0.15 Hz): see _CORNER_CEILING.
 _TURN_SHARE = 0.9
@@ -118,7 +118,7 @@ _CORNER_DS = 1e-3
 #: within 350-370 Hz, where 95 % of the points are orbits of |(y, v)| 26 to 28, and 26 %
 #: in the runs of ever shorter steps that creep towards a corner where the branch turns
 #: back (2026-11-24, Python walk, measured once by hand). With the corner's step grown
-#: there, measured by hand (2026-11-24, Python walk, _DS_START varied by 1e-9 relative
+#: there, measured by hand (2026-11-24, Python walk, DS_START varied by 1e-9 relative
 #: ten times, evaluations of R at N = 512 weighted by a half): at 0.15 Q 8,609 against
 #: 11,364 (mean), every walk through the bouncing fold at N = 1024 with the same two
 #: folds; at 0.13 Q 2,109 against 2,816, the same two folds (the bouncing one 0.03 Hz
@@ -141,9 +141,9 @@ _CORNER_DS = 1e-3
 #: within the marked one's 0.149 Hz).
 _CORNER_CEILING = 20.0
 #: A step that fails below the corner's step (``corner_step``) shrinks by this, not by
-#: _SHRINK: it has met a corner, where the steps creep towards the stall's ds (and the
+#: SHRINK: it has met a corner, where the steps creep towards the stall's ds (and the
 #: step in f alone that passes) however they shrink. Measured by hand (2026-11-24, as
-#: for _CORNER_CEILING): at 0.15 Q 7,805 evaluations of R against 8,609 with _SHRINK,
+#: for _CORNER_CEILING): at 0.15 Q 7,805 evaluations of R against 8,609 with SHRINK,
 #: every walk through the bouncing fold at N = 1024 with the same two folds, the sweeps'
 #: states as near the branch (0.153 %, 0.122 %; 0.336 % at 0.05 Q); at 0.13 Q 1,992
 #: against 2,109, the same two folds. Other factors, measured the same way (2026-11-24,
@@ -170,7 +170,7 @@ _CORNER_SHRINK = 0.25
 _STRAIGHT = 0.03
 _SIZE_REFERENCE = 2.0
 _SIZE_CEILING = 20.0
-_EASY_ITERATIONS = 3  # Newton converging within this many iterations grows the step
+EASY_ITERATIONS = 3  # Newton converging within this many iterations grows the step
 #: Brent's method locates a bifurcation to this arclength in z: f to about 1e-5 Hz on
 #: the paper's model (f_n0 = 1485 Hz), App to 1e-9 y0.
 LOCATE_TOL = 1e-8
@@ -537,17 +537,17 @@ def walk_finest(make_shoot, steps: int, auto: bool, model, low: float, high: flo
 _WHOLE = 1e-12
 
 
-def _covered(args, walks: list[_Walk]):
+def _covered(args, walks: list[Walk]):
     """(the band's length that the walks cover, the map, the branches, the bifurcations)."""
     shoot, model = args[:2]
-    branches, bifurcations = _results(shoot, model, _join(walks))
+    branches, bifurcations = branch_results(shoot, model, join_walks(walks))
     return _coverage(branches, shoot), shoot, branches, bifurcations
 
 
-def _stuck(walks: list[_Walk]) -> bool:
+def _stuck(walks: list[Walk]) -> bool:
     """Whether a walk stopped at a corner of the map that Newton cannot pass (and was not
     joined there by the walk from the other end)."""
-    return any(message.startswith(_STUCK) for *_, message in _join(walks))
+    return any(message.startswith(_STUCK) for *_, message in join_walks(walks))
 
 
 def _coverage(branches: list[ContinuedBranch], shoot: PeriodMap) -> float:
@@ -570,12 +570,12 @@ def walk_band(shoot: PeriodMap, model, low: float, high: float, ds_max, max_angl
     the band, also the one from the upper end, walked down, joined to it where they meet.
     """
     args = (shoot, model, low, high, ds_max, max_angle, max_points, quiet)
-    return _results(shoot, model, _join(_walked_down(
+    return branch_results(shoot, model, join_walks(_walked_down(
         [_band_walk(*args, +1)], *args)))
 
 
-def _walked_down(walks: list[_Walk], shoot, model, low, high, ds_max, max_angle, max_points,
-                 quiet) -> list[_Walk]:
+def _walked_down(walks: list[Walk], shoot, model, low, high, ds_max, max_angle, max_points,
+                 quiet) -> list[Walk]:
     """``walks`` (the walk up), and the walk down from the band's upper end if the walk up
     ended inside the band (at a corner of the map that Newton cannot pass, or at an
     isola's edge) and there is none yet."""
@@ -586,21 +586,21 @@ def _walked_down(walks: list[_Walk], shoot, model, low, high, ds_max, max_angle,
 
 
 def _band_walk(shoot, model, low, high, ds_max, max_angle, max_points, quiet,
-               direction: int) -> _Walk:
+               direction: int) -> Walk:
     """One walk over the band, up (``direction`` +1) or down (-1), with its progress bar."""
-    bar = _Coverage(low, high, quiet, shoot.steps)
+    bar = Coverage(low, high, quiet, shoot.steps)
     walk = _walk_from(shoot, model, low, high, direction, bar, ds_max, max_angle, max_points)
     bar.close()
     return walk
 
 
 def _walk_from(shoot, model, fmin_hz, fmax_hz, direction, bar, ds_max, max_angle,
-               max_points) -> _Walk:
+               max_points) -> Walk:
     """The branch through the stable orbit reached from rest at the band's lower end
     (``direction`` +1, walked up in f) or upper end (-1, walked down)."""
     f_start = fmin_hz if direction > 0 else fmax_hz
-    walk = _Walk(shoot, fmin_hz, fmax_hz, direction, ds_max, max_angle, max_points, bar)
-    first, reached = _first_point(shoot, model, f_start)
+    walk = Walk(shoot, fmin_hz, fmax_hz, direction, ds_max, max_angle, max_points, bar)
+    first, reached = first_point(shoot, model, f_start)
     if first is None:
         walk.end(Status.FAILED, f"no stable {shoot.period}-periodic orbit reached from rest "
                  f"at {shoot.label(shoot.scaled(0.0, 0.0, f_start))} to start from ({reached})")
@@ -609,7 +609,7 @@ def _walk_from(shoot, model, fmin_hz, fmax_hz, direction, bar, ds_max, max_angle
     return walk
 
 
-class _Coverage:
+class Coverage:
     """The progress bar: the share of the band that the walks have covered."""
 
     def __init__(self, fmin_hz, fmax_hz, quiet, steps: int | None = None):
@@ -631,7 +631,7 @@ class _Coverage:
         self.bar.close()
 
 
-def _first_point(shoot: PeriodMap, model, value: float) -> tuple[Point | None, str]:
+def first_point(shoot: PeriodMap, model, value: float) -> tuple[Point | None, str]:
     """The stable orbit reached from rest where the parameter is ``value`` (time marching,
     then Newton at our N), polished at that value, or None if none of period p is
     reached; and what the march reached, for a message."""
@@ -647,7 +647,7 @@ def _first_point(shoot: PeriodMap, model, value: float) -> tuple[Point | None, s
     return point, "" if point else "Newton did not polish the orbit the march reached"
 
 
-class _Walk:
+class Walk:
     """The points of a branch and the bifurcations met, walked step by step."""
 
     def __init__(self, shoot, fmin_hz, fmax_hz, direction, ds_max, max_angle, max_points, bar):
@@ -656,7 +656,7 @@ class _Walk:
         self.ds_max, self.max_angle, self.max_points = ds_max, max_angle, max_points
         self.points: list[Point] = []
         self.tangents: list[np.ndarray] = []
-        self.marks: list[_Mark] = []
+        self.marks: list[Mark] = []
         self.status, self.message = Status.SUCCESS, ""
         self.orientation = 1.0  # the sign of det([J; t]) along the branch
         self.resume: float | None = None  # the step to resume with after a corner
@@ -666,8 +666,8 @@ class _Walk:
         # orientation then); ``_locate_folds`` settles them when the walk ends.
         self.pending_folds: list[tuple[int, float]] = []
         # The walk's numbers for the compiled steps, in kernels.walk_template's order.
-        self.settings = np.array([_DS_MIN, ds_max, max_angle, _GROW, _SHRINK, _CORNER_DS,
-                                  _EASY_ITERATIONS, _STALL_DS, *shoot.newton_settings(),
+        self.settings = np.array([DS_MIN, ds_max, max_angle, GROW, SHRINK, _CORNER_DS,
+                                  EASY_ITERATIONS, _STALL_DS, *shoot.newton_settings(),
                                   self.f_lo, self.f_hi, _TURN_SHARE, _STRAIGHT,
                                   _SIZE_REFERENCE, _SIZE_CEILING, _CORNER_CEILING,
                                   _CORNER_SHRINK])
@@ -684,7 +684,7 @@ class _Walk:
         self.orientation = first.orientation(inward) or 1.0
         t = first.tangent(inward, self.orientation)
         self._keep(first, t)
-        ds = _DS_START
+        ds = DS_START
         while True:
             if len(self.points) >= self.max_points:
                 self.end(Status.FAILED, f"gave up after {self.max_points} points (max_points)")
@@ -692,14 +692,14 @@ class _Walk:
             step, ds = self._arclength_steps(ds)
             if step is None:
                 step = self._natural_step()
-                if step is None and ds >= _DS_MIN:  # stalled: on, shorter, to _DS_MIN,
+                if step is None and ds >= DS_MIN:  # stalled: on, shorter, to DS_MIN,
                     step, ds = self._arclength_steps(ds)
                     if step is None:  # and again in f alone from where that ended
                         step = self._natural_step()
             if step is _PLAIN:  # plain points kept, none needing Python: walk on
                 continue
             if step is None:
-                self.end(Status.FAILED, f"{_STUCK} {_DS_MIN:g} at "
+                self.end(Status.FAILED, f"{_STUCK} {DS_MIN:g} at "
                          f"{self.shoot.label(self.points[-1].z)}: Newton does not converge there")
                 break
             point, t, ds = step
@@ -717,7 +717,7 @@ class _Walk:
     def _mark_at_last(self, unlocated: list[tuple[str, float]]) -> None:
         """Bifurcations that Brent's method could not locate ((kind, reach) of each),
         marked at the last point kept: within one step of where they are."""
-        self.marks += [_Mark(len(self.points) - 1, kind, False, reach)
+        self.marks += [Mark(len(self.points) - 1, kind, False, reach)
                        for kind, reach in unlocated]
 
     def _natural_step(self):
@@ -755,7 +755,7 @@ class _Walk:
             t = t if t @ chord > 0 else -t  # on along the chord: the branch's new orientation
             self.orientation = point.orientation(t) or 1.0
             self.resume = None
-            return point, t, _DS_START
+            return point, t, DS_START
         return None
 
     def _arclength_steps(self, ds: float):
@@ -768,7 +768,7 @@ class _Walk:
         the plain points: (the step for Python to finish, as ``_step`` gives it, or None
         when the step failed, or _PLAIN when only plain points were walked; the ds)."""
         shoot, walker = self.shoot, self.shoot.walker
-        rows = min(_CHUNK, self.max_points - len(self.points))
+        rows = min(CHUNK, self.max_points - len(self.points))
         z, t, jac = np.empty((rows, 3)), np.empty((rows, 3)), np.empty((rows, 2, 3))
         mono, iterations = np.empty((rows, 2, 2)), np.empty(rows, dtype=np.int64)
         state = np.array([ds, -1.0 if self.resume is None else self.resume])
@@ -800,9 +800,9 @@ class _Walk:
     def _step(self, ds: float):
         """One accepted step from the last point: ((point, tangent, next ds), next ds), or
         (None, the ds it failed at: below _STALL_DS if it began above, else below
-        _DS_MIN)."""
+        DS_MIN)."""
         z, t = self.points[-1].z, self.tangents[-1]
-        least = _STALL_DS if ds >= _STALL_DS else _DS_MIN
+        least = _STALL_DS if ds >= _STALL_DS else DS_MIN
         corner = corner_step(z, self.ds_max)
         while ds >= least:
             point = self.shoot.correct_step(z + ds * t, t, t @ z + ds)
@@ -820,8 +820,8 @@ class _Walk:
                     # more folds, marked (354.38, 354.20 Hz), and 2,073 at 0.13 Q (against
                     # 1,992, the bouncing fold 0.03 Hz away; measured by hand as for
                     # _CORNER_CEILING, 2026-11-24).
-                    grow = point.iterations <= _EASY_ITERATIONS or ds < _CORNER_DS
-                    ds = min(ds * _GROW if grow else ds,
+                    grow = point.iterations <= EASY_ITERATIONS or ds < _CORNER_DS
+                    ds = min(ds * GROW if grow else ds,
                              largest_step(point.z, angle, self.ds_max))
                     return (point, t_new, ds), ds
                 if ds < corner:
@@ -832,9 +832,9 @@ class _Walk:
                     return (point, t_new, resume), resume
                 if self.resume is None:  # the step to come back to after a corner
                     self.resume = ds
-                ds *= min(_SHRINK, _TURN_SHARE * self.max_angle / angle)
+                ds *= min(SHRINK, _TURN_SHARE * self.max_angle / angle)
                 continue
-            ds *= _CORNER_SHRINK if ds < corner else _SHRINK
+            ds *= _CORNER_SHRINK if ds < corner else SHRINK
         return None, ds
 
     def _bifurcations(self, point: Point, t: np.ndarray,
@@ -865,7 +865,7 @@ class _Walk:
             else:
                 found.append((located[0], kind, located[1], located[2]))
         for _, kind, p, tp in sorted(found, key=lambda item: item[0]):
-            self.marks.append(_Mark(len(self.points), kind, True, LOCATE_TOL))
+            self.marks.append(Mark(len(self.points), kind, True, LOCATE_TOL))
             self._keep(p, tp)
         return unlocated
 
@@ -895,12 +895,12 @@ class _Walk:
             located = (self._locate(base, self.tangents[first], end, _fold_test, orientation)
                        if near else None)
             if located is None:
-                self.marks.append(_Mark(first + 1, "fold", False, _reach(base, end)))
+                self.marks.append(Mark(first + 1, "fold", False, _reach(base, end)))
                 continue
             _, point, t = located
             self.marks = [m._replace(index=m.index + 1) if m.index > first else m
                           for m in self.marks]
-            self.marks.append(_Mark(first + 1, "fold", True, LOCATE_TOL))
+            self.marks.append(Mark(first + 1, "fold", True, LOCATE_TOL))
             self.points.insert(first + 1, point)
             self.tangents.insert(first + 1, t)
         self.pending_folds = []
@@ -954,7 +954,7 @@ class _NotLocated(Exception):
     pass
 
 
-class _Mark(NamedTuple):
+class Mark(NamedTuple):
     """A bifurcation met by a walk: the index of its point in the walk's points, its kind,
     whether Brent's method located it, and how far (in z, in the parameter) it may lie
     from that point."""
@@ -981,7 +981,7 @@ def _reach(a: Point, b: Point) -> float:
     return max(by_rate, abs(float(chord[2])))
 
 
-#: The steps in the parameter alone that ``_Walk._natural_step`` tries (in z: 1e-5 f_n0 is
+#: The steps in the parameter alone that ``Walk._natural_step`` tries (in z: 1e-5 f_n0 is
 #: 0.015 Hz on the paper's model), how far the orbit may move in one (in z), and how many
 #: a walk may take.
 _NATURAL_DF = (1e-5, 3e-5, 1e-4)
@@ -996,7 +996,7 @@ _E_F = np.array([0.0, 0.0, 1.0])
 
 #: Points that one compiled call walks at most, so that the progress bar moves (and
 #: Ctrl-C is heard) between calls; _PLAIN says that a call kept only plain points.
-_CHUNK = 256
+CHUNK = 256
 _PLAIN = object()
 
 
@@ -1005,7 +1005,7 @@ _PLAIN = object()
 _MEET = 1e-2
 
 
-def _join(walks: list[_Walk]) -> list[tuple[list[Point], list[_Mark], Status, str]]:
+def join_walks(walks: list[Walk]) -> list[tuple[list[Point], list[Mark], Status, str]]:
     """Each branch's points (in the order of the walk up), marks, status and message: a
     walk down that ends where the walk up ended is the same branch, joined to it (with a
     fold where f turns back at the joint)."""
@@ -1022,7 +1022,7 @@ def _join(walks: list[_Walk]) -> list[tuple[list[Point], list[_Mark], Status, st
             # located: Newton could not pass there).
             marks = list(up.marks)
             if up.tangents[-1][2] * down.tangents[-1][2] > 0:
-                marks.append(_Mark(n_up - 1, "fold", False,
+                marks.append(Mark(n_up - 1, "fold", False,
                                    _reach(up.points[-1], down.points[-1])))
             joined = [m._replace(index=n_up + m.index) for m in down_marks]
             return [(up.points + down.points[::-1], marks + joined, Status.SUCCESS, "")]
@@ -1067,7 +1067,7 @@ def _tail(f: np.ndarray) -> np.ndarray:
     return np.arange(f.size)[_near(f, f.size - 1)]
 
 
-def _significant_folds(points: list[Point], marks: list[_Mark]) -> list[_Mark]:
+def _significant_folds(points: list[Point], marks: list[Mark]) -> list[Mark]:
     """``marks`` with the folds that are significant turns of f (``_FOLD_PROMINENCE``):
     per turn, the fold marked nearest to it, or the turning point itself (not located:
     within a step either side)."""
@@ -1076,7 +1076,7 @@ def _significant_folds(points: list[Point], marks: list[_Mark]) -> list[_Mark]:
     folds = [m for m in marks if m.kind == "fold"]
     at = np.array([m.index for m in folds], dtype=int)
     chosen = [folds[np.argmin(np.abs(at - k))] if at.size and np.abs(at - k).min() <= 2
-              else _Mark(int(k), "fold", False, max(_reach(points[k - 1], points[k]),
+              else Mark(int(k), "fold", False, max(_reach(points[k - 1], points[k]),
                                                     _reach(points[k], points[k + 1])))
               for k in turns]
     chosen = [m._replace(reach=max(m.reach, _FOLD_PROMINENCE)) if _zigzags(f, k) else m
@@ -1100,7 +1100,7 @@ def _zigzags(f: np.ndarray, turn: int) -> bool:
     return bool((np.sign(moves[1:]) != np.sign(moves[:-1])).sum() > 1)
 
 
-def _results(shoot: PeriodMap, model, branches):
+def branch_results(shoot: PeriodMap, model, branches):
     """The branches' columns (App of all points in one batched recording) and the
     bifurcations, in the order of the branches."""
     z = np.array([p.z for points, *_ in branches for p in points]).reshape(-1, 3)
@@ -1124,7 +1124,7 @@ def _results(shoot: PeriodMap, model, branches):
     return out, [_bifurcation(shoot, model, m, f, app, pa_frac, parameter) for m in marks]
 
 
-def _bifurcation(shoot: PeriodMap, model, mark: _Mark, f, app, pa_frac, parameter):
+def _bifurcation(shoot: PeriodMap, model, mark: Mark, f, app, pa_frac, parameter):
     """The ``Bifurcation`` of a mark, at its point of the branches' columns, with its
     reach turned into tolerances of f_e and P_a / Q (0 in the one the walk held)."""
     i = mark.index

@@ -40,7 +40,7 @@ _TEMPLATE = Path(__file__).with_name("kernel_template.py")
 _SWEEP_TEMPLATE = Path(__file__).with_name("sweep_template.py")
 #: The files whose code shapes a kernel module (a change to it generates the module again;
 #: an edit of a comment or docstring does not: ``cache_key``).
-_SOURCES = (*MODEL_SOURCES, Path(__file__), _TEMPLATE, _SWEEP_TEMPLATE,
+KERNEL_SOURCES = (*MODEL_SOURCES, Path(__file__), _TEMPLATE, _SWEEP_TEMPLATE,
             Path(__file__).parents[1] / "steady" / "shooting.py",
             # the sweep template freezes common.Status's values into the machine code
             Path(__file__).parents[2] / "perturb" / "common" / "_status.py")
@@ -170,7 +170,7 @@ def _module_source(model: ContactModel) -> str:
 def _cache_key(model: ContactModel) -> str:
     """A key for the model's kernels that needs no sympy: the parameters and effects,
     sympy's release, and the code of every file that shapes the generated source."""
-    return cache_key((model.parameters, model.effects), _SOURCES)
+    return cache_key((model.parameters, model.effects), KERNEL_SOURCES)
 
 
 def compiled_kernels(model: ContactModel) -> ModuleType:

@@ -11,7 +11,7 @@ stability check, the short march that confirms it, the settling march, polish,
 recording of the extrema and the least period, the half-step error estimate with
 the stiffness test, the refinement passes with doubled steps, the statuses), in
 the same order and with the same batches of lanes, and seeds the next point as
-``numerics.steady.sweeps._sweep_lanes`` does. Every constant comes from ``steady.shooting``.
+``numerics.steady.sweeps.sweep_points`` does. Every constant comes from ``steady.shooting``.
 
 A point's state is held in a float table ``fl`` and an integer table ``it`` with
 one row per lane and the columns named below, plus the multipliers and the
@@ -23,7 +23,33 @@ import math
 import numba
 import numpy as np
 
-from numerics.steady import shooting as _st
+# The steady-state engine's constants: one module, read by both routes.
+from numerics.steady.shooting import (
+    CAP_PERIODS,
+    CHUNK,
+    DISTINCT_LAG,
+    LANE_STEP_BUDGET,
+    LONGEST_CHUNK,
+    NEWTON_ITERATIONS,
+    ORDER_FACTOR,
+    PERIODS_TRIED,
+    REACH_CONTINUATION,
+    REACH_POLISH,
+    RESOLVED_OMEGA_DT,
+    ROUNDOFF,
+    SHARPEN_SLACK,
+    SPAN_FLOOR,
+    UNESTIMATED_SLACK,
+    UNKNOWN_AMPLIFICATION,
+    VERIFY_EARLY_SHRINK,
+    VERIFY_FIRST,
+    VERIFY_LINEAR,
+    VERIFY_PERIODS,
+    VERIFY_SHRINK,
+)
+from numerics.steady.shooting import (
+    RANK as STATUS_RANK,
+)
 from perturb.common import Status
 
 _SUCCESS = int(Status.SUCCESS)
@@ -33,35 +59,16 @@ _UNDER_RESOLVED = int(Status.UNDER_RESOLVED)
 #: ``Orbits.method``, by code.
 METHODS = ("none", "newton", "march+newton", "march")
 _M_NONE, _M_NEWTON, _M_MARCH_NEWTON, _M_MARCH = 0, 1, 2, 3
-#: How good each status is (``steady.shooting._RANK``), indexed by status + 1.
-_RANK = np.asarray(_st._RANK, dtype=np.int64)
+#: How good each status is (``steady.shooting.RANK``), indexed by status + 1.
+RANK = np.asarray(STATUS_RANK, dtype=np.int64)
 _STATUS_OFFSET = -_FAILED
-_KEEP_LAST = max(_st.PERIODS_TRIED) + 3  # stroboscopic samples the period test looks at
-_LARGEST_PERIOD = max(_st.PERIODS_TRIED)
-_NEWTON_ITERATIONS = _st._NEWTON_ITERATIONS
-_SPAN_FLOOR = _st._SPAN_FLOOR
-_REACH_CONTINUATION = _st._REACH_CONTINUATION
-_REACH_POLISH = _st._REACH_POLISH
-_SHARPEN_SLACK = _st._SHARPEN_SLACK
-_UNESTIMATED_SLACK = _st._UNESTIMATED_SLACK
-_DISTINCT_LAG = _st._DISTINCT_LAG
-_VERIFY_PERIODS = _st._VERIFY_PERIODS
-_VERIFY_SHRINK = _st._VERIFY_SHRINK
-_VERIFY_FIRST = _st._VERIFY_FIRST
-_VERIFY_LINEAR = _st._VERIFY_LINEAR
-_VERIFY_EARLY_SHRINK = _st._VERIFY_EARLY_SHRINK
-_CHUNK = _st._CHUNK
-_LONGEST_CHUNK = _st._LONGEST_CHUNK
-_CAP_FIRST = _st._CAP_PERIODS[0]
-_LANE_STEP_BUDGET = _st._LANE_STEP_BUDGET
-_RESOLVED_OMEGA_DT = _st._RESOLVED_OMEGA_DT
-_ROUNDOFF = _st._ROUNDOFF
-_UNKNOWN_AMPLIFICATION = _st._UNKNOWN_AMPLIFICATION
-_ORDER_FACTOR = _st._ORDER_FACTOR
+_KEEP_LAST = max(PERIODS_TRIED) + 3  # stroboscopic samples the period test looks at
+_LARGEST_PERIOD = max(PERIODS_TRIED)
+_CAP_FIRST = CAP_PERIODS[0]
 _LARGEST_FLOAT = np.finfo(np.float64).max
 # The march keeps the last _KEEP_LAST samples of its last chunk only: every chunk is
-# at least that long (the shortest is _CHUNK).
-assert _CHUNK >= _KEEP_LAST
+# at least that long (the shortest is CHUNK).
+assert CHUNK >= _KEEP_LAST
 
 # Columns of a point's state tables.
 F_YMIN, F_YMAX, F_Y, F_V, F_ERROR = 0, 1, 2, 3, 4
@@ -86,13 +93,13 @@ def _nanmax(a, b):
 
 @_inline
 def _scale(span, length):
-    """_Batch.scale: the orbit's App, at least _SPAN_FLOOR of y0."""
-    return _nanmax(span, _SPAN_FLOOR * length)
+    """Batch.scale: the orbit's App, at least SPAN_FLOOR of y0."""
+    return _nanmax(span, SPAN_FLOOR * length)
 
 
 @_inline
 def _distance(dy, dv, omega, scale):
-    """_Batch.distance: |dy|/L + |dv|/(Omega L)."""
+    """Batch.distance: |dy|/L + |dv|/(Omega L)."""
     return abs(dy) / scale + abs(dv) / (omega * scale)
 
 
@@ -146,7 +153,7 @@ def _largest_modulus(mu0, mu1):
 @_jit
 def _newton(idx, y_start, v_start, p, span, reach, dt, p_a, omega, drive, tol, length,
             periods_run):
-    """_Batch.newton on the lanes ``idx`` (one batch: the lanes still iterating iterate
+    """Batch.newton on the lanes ``idx`` (one batch: the lanes still iterating iterate
     together); also returns the last monodromy matrices, which _follows takes, and the
     first shot Phi_p(y_start, v_start)."""
     n = idx.shape[0]
@@ -155,7 +162,7 @@ def _newton(idx, y_start, v_start, p, span, reach, dt, p_a, omega, drive, tol, l
     converged = np.zeros(n, dtype=np.bool_)
     shot_y, shot_v = np.empty(n), np.empty(n)
     active = np.arange(n)
-    for iteration in range(_NEWTON_ITERATIONS):
+    for iteration in range(NEWTON_ITERATIONS):
         lanes = idx[active]
         yp, vp, m = y[active], v[active], np.empty((active.shape[0], 2, 2))
         shoot_periods(yp, vp, dt[lanes], p_a[lanes], drive, p, m)  # noqa: F821
@@ -167,7 +174,7 @@ def _newton(idx, y_start, v_start, p, span, reach, dt, p_a, omega, drive, tol, l
                 shot_y[i], shot_v[i] = yp[j], vp[j]
             copy_into(monodromy[i, 0], m[j, 0])  # noqa: F821 (the kernels')
             copy_into(monodromy[i, 1], m[j, 1])  # noqa: F821
-            # (M - I) dx = -(Phi(x) - x), by Cramer's rule (steady.shooting._solve_2x2).
+            # (M - I) dx = -(Phi(x) - x), by Cramer's rule (steady.shooting.solve_2x2).
             a00, a01 = m[j, 0, 0] - 1.0, m[j, 0, 1]
             a10, a11 = m[j, 1, 0], m[j, 1, 1] - 1.0
             b0, b1 = y[i] - yp[j], v[i] - vp[j]
@@ -207,12 +214,12 @@ def _propagate(m, dy, dv, times):
 @_jit
 def _follows(idx, y, v, y_orbit, v_orbit, p, span, monodromy, shot_y, shot_v, dt, p_a, omega,
              limit, drive, tol, length, periods_run):
-    """_Batch.follows: whether a short march from (y, v) approaches the orbit, decided
-    after _VERIFY_FIRST periods where the march follows the orbit's linearisation; its
+    """Batch.follows: whether a short march from (y, v) approaches the orbit, decided
+    after VERIFY_FIRST periods where the march follows the orbit's linearisation; its
     first p periods are Newton's first shot (shot_y, shot_v)."""
     n = idx.shape[0]
-    full = _VERIFY_PERIODS - _VERIFY_PERIODS % p
-    first = max(_VERIFY_FIRST - _VERIFY_FIRST % p, p)
+    full = VERIFY_PERIODS - VERIFY_PERIODS % p
+    first = max(VERIFY_FIRST - VERIFY_FIRST % p, p)
     ym, vm = shot_y.copy(), shot_v.copy()
     marched = p
     before, scale = np.empty(n), np.empty(n)
@@ -227,10 +234,10 @@ def _follows(idx, y, v, y_orbit, v_orbit, p, span, monodromy, shot_y, shot_v, dt
             ey, ev = ym[i] - y_orbit[i], vm[i] - v_orbit[i]
             ly, lv = _propagate(monodromy[i], y[i] - y_orbit[i], v[i] - v_orbit[i], first // p)
             linear = (_distance(ey - ly, ev - lv, omega[idx[i]], scale[i])
-                      <= _VERIFY_LINEAR * before[i])
+                      <= VERIFY_LINEAR * before[i])
             py, pv = _propagate(monodromy[i], ey, ev, (full - first) // p)
             predicted = _distance(py, pv, omega[idx[i]], scale[i])
-            early[i] = linear and predicted < _VERIFY_EARLY_SHRINK * before[i]
+            early[i] = linear and predicted < VERIFY_EARLY_SHRINK * before[i]
     rest = np.flatnonzero(~early)
     ym_rest, vm_rest = ym[rest], vm[rest]
     _advance_verify(idx[rest], ym_rest, vm_rest, full - marched, dt, p_a, limit, drive,
@@ -240,7 +247,7 @@ def _follows(idx, y, v, y_orbit, v_orbit, p, span, monodromy, shot_y, shot_v, dt
     out = np.zeros(n, dtype=np.bool_)
     for i in range(n):
         after = _distance(ym[i] - y_orbit[i], vm[i] - v_orbit[i], omega[idx[i]], scale[i])
-        out[i] = early[i] or (after < _VERIFY_SHRINK * before[i]) or (after < tol)
+        out[i] = early[i] or (after < VERIFY_SHRINK * before[i]) or (after < tol)
     return out
 
 
@@ -263,7 +270,7 @@ def _newton_from(group, y, v, p, span, reach, method, check, fl, it, mult, dt, p
 
 @_inline
 def _advance_verify(lanes, y, v, periods, dt, p_a, limit, drive, periods_run):
-    """_Batch._march_verify: advance the lanes in place (failures are not kept)."""
+    """Batch._march_verify: advance the lanes in place (failures are not kept)."""
     advance_periods(y, v, dt[lanes], p_a[lanes], drive, periods,  # noqa: F821
                     np.full(lanes.shape[0], -1, dtype=np.int64), limit[lanes])
     for lane in lanes:
@@ -272,7 +279,7 @@ def _advance_verify(lanes, y, v, periods, dt, p_a, limit, drive, periods_run):
 
 @_inline
 def _repeating_period(strobe_y, strobe_v, span, omega, tol, length):
-    """_Batch._repeating_period of one lane, from the last _KEEP_LAST samples of a chunk."""
+    """Batch._repeating_period of one lane, from the last _KEEP_LAST samples of a chunk."""
     last = strobe_y.shape[0] - 1
     scale = _scale(span, length)
     smallest = np.empty(_LARGEST_PERIOD + 1)  # the least lag-p difference of the samples
@@ -289,7 +296,7 @@ def _repeating_period(strobe_y, strobe_v, span, omega, tol, length):
         if biggest < tol * 1e-3 or (rho < 1 and left < tol):
             distinct = True  # every divisor's lag differences clearly not zero
             for q in range(1, p):
-                if p % q == 0 and not smallest[q] >= _DISTINCT_LAG * tol:
+                if p % q == 0 and not smallest[q] >= DISTINCT_LAG * tol:
                     distinct = False
             if distinct:
                 return p
@@ -299,7 +306,7 @@ def _repeating_period(strobe_y, strobe_v, span, omega, tol, length):
 @_jit
 def _march(idx, y, v, cap, failed_at, done, dt, p_a, omega, limit, drive, tol, length,
            periods_run):
-    """_Batch.march: lanes march until their stroboscopic state repeats or their cap,
+    """Batch.march: lanes march until their stroboscopic state repeats or their cap,
     counted from ``done`` periods marched before."""
     n = idx.shape[0]
     period = np.zeros(n, dtype=np.int64)
@@ -310,7 +317,7 @@ def _march(idx, y, v, cap, failed_at, done, dt, p_a, omega, limit, drive, tol, l
         active = active[done < cap[active]]
         if not active.size:
             break
-        chunk = _CHUNK if done < _CAP_FIRST else min(done // 4, _LONGEST_CHUNK)
+        chunk = CHUNK if done < _CAP_FIRST else min(done // 4, LONGEST_CHUNK)
         lanes = idx[active]
         strobe_y, strobe_v = np.empty((active.size, chunk)), np.empty((active.size, chunk))
         span = np.empty(active.size)
@@ -338,22 +345,22 @@ def _march(idx, y, v, cap, failed_at, done, dt, p_a, omega, limit, drive, tol, l
 def _march_lanes(rest, y, v, guess, cap, failed_at, use_newton, fl, it, mult, dt, p_a, omega,
                  limit, drive, tol, length, periods_run):
     """steady.shooting._march: the lanes ``rest`` march from (y, v); with Newton, those still moving
-    after _CHUNK periods try Newton and the approach check from there, the others march
+    after CHUNK periods try Newton and the approach check from there, the others march
     on; lanes that repeat are polished."""
-    period, ym, vm, span = _march(rest, y, v, np.minimum(cap, _CHUNK) if use_newton else cap,
+    period, ym, vm, span = _march(rest, y, v, np.minimum(cap, CHUNK) if use_newton else cap,
                                   failed_at, np.int64(0), dt, p_a, omega, limit, drive, tol,
                                   length, periods_run)
     if use_newton:
-        moving = np.flatnonzero((period == 0) & (failed_at[rest] < 0) & (cap > _CHUNK))
+        moving = np.flatnonzero((period == 0) & (failed_at[rest] < 0) & (cap > CHUNK))
         for p in range(1, _LARGEST_PERIOD + 1):
             chosen = moving[guess[moving] == p]
             if chosen.size:
                 _newton_from(rest[chosen], ym[chosen], vm[chosen], p, span[chosen],
-                             _REACH_CONTINUATION, _M_MARCH_NEWTON, True, fl, it, mult, dt, p_a,
+                             REACH_CONTINUATION, _M_MARCH_NEWTON, True, fl, it, mult, dt, p_a,
                              omega, limit, drive, tol, length, periods_run)
         on = moving[it[rest[moving], I_STATUS] != _SUCCESS]
         period_on, ym_on, vm_on, span_on = _march(rest[on], ym[on], vm[on], cap[on], failed_at,
-                                                  np.int64(_CHUNK), dt, p_a, omega, limit,
+                                                  np.int64(CHUNK), dt, p_a, omega, limit,
                                                   drive, tol, length, periods_run)
         _scatter(period, on, period_on)
         _scatter(ym, on, ym_on)
@@ -370,7 +377,7 @@ def _march_lanes(rest, y, v, guess, cap, failed_at, use_newton, fl, it, mult, dt
         if not group.size:
             continue
         if use_newton:  # polish: the marched state is within about tol of the orbit
-            ok = _newton_from(group, marched_y, marched_v, p, span[chosen], _REACH_POLISH,
+            ok = _newton_from(group, marched_y, marched_v, p, span[chosen], REACH_POLISH,
                               _M_MARCH_NEWTON, False, fl, it, mult, dt, p_a, omega, limit,
                               drive, tol, length, periods_run)
             group, marched_y, marched_v = group[~ok], marched_y[~ok], marched_v[~ok]
@@ -459,7 +466,7 @@ def _estimate_step_error(lanes, steps, fl, it, mult, f_e, p_a, limit, tables, ta
     """steady.shooting._estimate_step_error: App's relative error from the step, per lane."""
     half_steps = max(steps // 2, 2)
     half_drive = _drive(tables, table_steps, table_offset, half_steps)
-    floor = _ROUNDOFF * length
+    floor = ROUNDOFF * length
     for p in range(1, _LARGEST_PERIOD + 1):
         group = np.empty(lanes.shape[0], dtype=np.int64)
         n = 0
@@ -467,7 +474,7 @@ def _estimate_step_error(lanes, steps, fl, it, mult, f_e, p_a, limit, tables, ta
             if it[lane, I_STATUS] != _SUCCESS or it[lane, I_PERIOD] != p:
                 continue
             stiff = _stiffest_omega_dt(fl[lane, F_YMIN], fl[lane, F_YMAX], dt[lane], length)
-            if stiff <= _RESOLVED_OMEGA_DT:
+            if stiff <= RESOLVED_OMEGA_DT:
                 group[n] = lane
                 n += 1
             else:
@@ -488,9 +495,9 @@ def _estimate_step_error(lanes, steps, fl, it, mult, f_e, p_a, limit, tables, ta
             periods_run[lane] += p
             app = fl[lane, F_YMAX] - fl[lane, F_YMIN]
             largest = _largest_modulus(mult[lane, 0], mult[lane, 1])
-            amplification = 1 / (1 - largest) if largest < 1 else _UNKNOWN_AMPLIFICATION
+            amplification = 1 / (1 - largest) if largest < 1 else UNKNOWN_AMPLIFICATION
             change = (_nanmax(abs(app - (ymax[i] - ymin[i])), floor) * amplification
-                      / _ORDER_FACTOR)
+                      / ORDER_FACTOR)
             estimate = 0.0 if app <= floor else change / app
             if estimate != estimate:  # np.nan_to_num(estimate, nan=np.inf)
                 estimate = np.inf
@@ -506,7 +513,7 @@ def _solve(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, continuation, 
            tol, app_rtol, length, tables, table_steps, table_offset, fl, it, mult, maxima,
            minima, polish_only):
     """steady.shooting._solve: one pass at one step count over ``lanes``; writes their rows
-    (``polish_only``: Newton alone, within _REACH_POLISH, as steady.shooting._sharpen asks)."""
+    (``polish_only``: Newton alone, within REACH_POLISH, as steady.shooting._sharpen asks)."""
     lane_count = f_e.shape[0]
     drive = _drive(tables, table_steps, table_offset, steps)
     dt = 1.0 / (steps * f_e)
@@ -517,7 +524,7 @@ def _solve(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, continuation, 
         fl[lane, :] = np.nan
         it[lane, I_STATUS], it[lane, I_PERIOD], it[lane, I_METHOD] = _NOT_SETTLED, 0, _M_NONE
         it[lane, I_STEPS] = steps
-        it[lane, I_CAP] = min(cap[lane], max(_LANE_STEP_BUDGET // steps, _CHUNK))
+        it[lane, I_CAP] = min(cap[lane], max(LANE_STEP_BUDGET // steps, CHUNK))
         mult[lane, 0] = complex(np.nan, np.nan)
         mult[lane, 1] = complex(np.nan, np.nan)
         maxima[lane] = np.empty(0)
@@ -527,7 +534,7 @@ def _solve(lanes, steps, f_e, p_a, y, v, guess, span, cap, limit, continuation, 
             group = lanes[guess[lanes] == p]
             if group.size:
                 _newton_from(group, y[group], v[group], p, span[group],
-                             _REACH_POLISH if polish_only else _REACH_CONTINUATION, _M_NEWTON,
+                             REACH_POLISH if polish_only else REACH_CONTINUATION, _M_NEWTON,
                              not polish_only, fl, it, mult, dt, p_a, omega, limit, drive, tol,
                              length, periods_run)
     rest = lanes[it[lanes, I_STATUS] != _SUCCESS]
@@ -642,7 +649,7 @@ def _sharpened(coarse, fine, fine_status):
     app = coarse[F_YMAX] - coarse[F_YMIN]
     moved = abs((fine[F_YMAX] - fine[F_YMIN]) - app)
     estimate = coarse[F_ERROR]
-    slack = _SHARPEN_SLACK * estimate if math.isfinite(estimate) else _UNESTIMATED_SLACK
+    slack = SHARPEN_SLACK * estimate if math.isfinite(estimate) else UNESTIMATED_SLACK
     return (fine_status == _SUCCESS or fine_status == _UNDER_RESOLVED) and moved <= slack * app
 
 
@@ -652,8 +659,8 @@ def _merge(lanes, fl, it, mult, maxima, minima, fine_fl, fine_it, fine_mult, fin
     """steady.shooting._merge: the finer result of ``lanes`` where it is at least as good."""
     for lane in lanes:
         cost = it[lane, I_RUN] + fine_it[lane, I_RUN]
-        if (_RANK[fine_it[lane, I_STATUS] + _STATUS_OFFSET]
-                <= _RANK[it[lane, I_STATUS] + _STATUS_OFFSET]):
+        if (RANK[fine_it[lane, I_STATUS] + _STATUS_OFFSET]
+                <= RANK[it[lane, I_STATUS] + _STATUS_OFFSET]):
             copy_into(fl[lane], fine_fl[lane])  # noqa: F821 (the kernels')
             copy_into(it[lane], fine_it[lane])  # noqa: F821
             copy_into(mult[lane], fine_mult[lane])  # noqa: F821
@@ -665,7 +672,7 @@ def _merge(lanes, fl, it, mult, maxima, minima, fine_fl, fine_it, fine_mult, fin
 @numba.njit(cache=True, error_model="numpy", nogil=True)
 def sweep_lanes(freq, p_a, steps, cap, limit, y, v, app, period, continued, use_newton, tol,
                 app_rtol, refinements, max_steps, length, tables, table_steps, table_offset):
-    """Walk every lane through its frequencies (``numerics.steady.sweeps._sweep_lanes``).
+    """Walk every lane through its frequencies (``numerics.steady.sweeps.sweep_points``).
 
     freq, steps, cap, limit : (lanes, points): f_e, the first pass's steps per period,
         the settling cap and the divergence limit of every point.

@@ -21,7 +21,7 @@ import numpy as np
 from perturb import ContactModel
 from perturb.cache import cache_key, load_generated, usable_cache_dir
 
-from .codegen import _SOURCES, compiled_kernels
+from .codegen import KERNEL_SOURCES, compiled_kernels
 from .lanes import drive_table
 
 __all__ = ["compiled_walk"]
@@ -37,7 +37,7 @@ def compiled_walk(model: ContactModel) -> ModuleType:
     with _LOCK:
         if memo not in _LOADED:
             kernels = compiled_kernels(model)
-            key = cache_key(memo, (*_SOURCES, _TEMPLATE, Path(__file__)))
+            key = cache_key(memo, (*KERNEL_SOURCES, _TEMPLATE, Path(__file__)))
             _LOADED[memo] = load_generated(usable_cache_dir() / f"walk_{key}.py",
                                            f"_contact_walk_{key}", lambda: _source(kernels),
                                            _smoke)

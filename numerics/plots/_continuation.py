@@ -85,7 +85,7 @@ def plot_continued_app(continuations, path=None, *, sweep=None) -> Figure:
     """Fig. 2 redrawn from continued branches: one panel per force amplitude (one
     ``Continuation`` each), App (log axis) against f_e, stable parts solid and unstable
     dashed; with ``sweep`` (a ``Sweep`` at the same amplitudes), its points beside."""
-    from ._sweep import _f_n0_hz, _resonance_marks, _title
+    from ._sweep import f_n0_hz, fraction_title, resonance_marks
 
     runs = sorted(continuations, key=lambda c: c.pa_frac)
     cols = min(len(runs), 2)
@@ -103,8 +103,8 @@ def plot_continued_app(continuations, path=None, *, sweep=None) -> Figure:
                 ax.semilogy(part.frequency_hz, part.app_m * 1e9, "." if part.direction == "up"
                             else "+", ms=2, color="tab:orange")
         band = run.settings["fmin_hz"], run.settings["fmax_hz"]
-        _resonance_marks(ax, _f_n0_hz(run.model), *band)
-        _title(ax, i, run.pa_frac)
+        resonance_marks(ax, f_n0_hz(run.model), *band)
+        fraction_title(ax, i, run.pa_frac)
         ax.set_ylabel("A_pp [nm]")
         ax.grid(True, which="major", alpha=0.3)
     for ax in axes[len(runs) - min(cols, len(runs)):len(runs)]:

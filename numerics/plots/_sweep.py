@@ -37,11 +37,11 @@ def _finish(figure, axes, path) -> Figure:
     return finish(figure, path)
 
 
-def _title(ax, i: int, frac: float) -> None:
+def fraction_title(ax, i: int, frac: float) -> None:
     panel_title(ax, f"({_PANELS[i % 10]}) P_a = {frac:.2f} Q", fontsize=9, loc="left")
 
 
-def _resonance_marks(ax, f_n0: float, fmin: float, fmax: float) -> None:
+def resonance_marks(ax, f_n0: float, fmin: float, fmax: float) -> None:
     """Plus signs at f_n0 / m (Eq. 3.1), at the bottom of the panel."""
     m = np.arange(1, 40)
     marks = f_n0 / m
@@ -63,8 +63,8 @@ def plot_app(sweep, path=None) -> Figure:
             lost = run.contact_lost
             ax.semilogy(f[lost], app[lost] * 1e9, ".", color=style["color"], ms=2)
         f_all = np.concatenate([r.frequency_hz for r in sweep.runs])
-        _resonance_marks(ax, _f_n0_hz(sweep.model), f_all.min(), f_all.max())
-        _title(ax, i, frac)
+        resonance_marks(ax, f_n0_hz(sweep.model), f_all.min(), f_all.max())
+        fraction_title(ax, i, frac)
         ax.set_ylabel("A_pp [nm]")
         ax.grid(True, which="major", alpha=0.3)
     axes[0].legend(fontsize=7, loc="upper left")
@@ -86,14 +86,14 @@ def plot_extrema(sweep, path=None) -> Figure:
                 y = np.concatenate([np.asarray(v, float) for v in values]) * 1e9
                 ax.plot(f, y, marker, color=color, ms=2, ls="none")
         ax.axhline(0.0, color="tab:red", lw=0.6, alpha=0.6)  # below: loss of contact
-        _title(ax, i, frac)
+        fraction_title(ax, i, frac)
         ax.set_ylabel("y extrema [nm]")
     for ax in axes[-2:]:
         ax.set_xlabel("f_e [Hz]")
     return _finish(figure, grid, path)
 
 
-def _f_n0_hz(model: dict) -> float:
+def f_n0_hz(model: dict) -> float:
     """f_n0 of the model a result carries (Eq. 2.6)."""
     from perturb import ContactModel, eq26_numbers
 

@@ -352,7 +352,7 @@ def _full_through(scene, study: StudyRun, windows, length: int) -> list:
     each), all windows run as lanes of one sweep. A window continues from the scene's
     last good orbit before it, as the scene's sweep did; with none (the start of a
     run), from rest."""
-    from ..steady.sweeps import _sweep_lanes
+    from ..steady.sweeps import sweep_points
 
     model, runs = model_of(scene, FULL), study.outcomes[0].runs
     freq = np.array([runs[r].frequency_hz[first:first + length] for r, first in windows])
@@ -366,7 +366,7 @@ def _full_through(scene, study: StudyRun, windows, length: int) -> list:
             continue
         start = None if from_rest else Orbits.stack(
             [runs[windows[w][0]].take([seeds[w]]) for w in group])
-        points = _sweep_lanes(freq[group], p_a[group], model, True, start=start, **accuracy)
+        points = sweep_points(freq[group], p_a[group], model, True, start=start, **accuracy)
         for k, w in enumerate(group):  # points are stacked frequency by frequency
             out[w] = points.take(np.arange(k, points.status.size, len(group)))
     return out

@@ -25,7 +25,7 @@ from perturb.common import (
 from ..simulation.ranges import check_tested
 from ..simulation.rk4 import check_model
 from .lyapunov import DEFAULTS as LYAPUNOV_DEFAULTS
-from .lyapunov import LyapunovExponents, _check_run, largest_lyapunov
+from .lyapunov import LyapunovExponents, check_run, largest_lyapunov
 from .orbits import Orbits
 from .shooting import DEFAULTS, steady_states
 
@@ -271,7 +271,7 @@ def check_lyapunov_periods(periods: int | None) -> None:
     ``largest_lyapunov`` takes: checked before any work, not when chaos is met."""
     if periods is not None:
         try:
-            _check_run(periods, LYAPUNOV_DEFAULTS["discard_periods"], LYAPUNOV_DEFAULTS["blocks"])
+            check_run(periods, LYAPUNOV_DEFAULTS["discard_periods"], LYAPUNOV_DEFAULTS["blocks"])
         except ValueError as error:
             raise ValueError(str(error).replace("`periods`", "`lyapunov_periods`")) from None
 

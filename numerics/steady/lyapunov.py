@@ -43,9 +43,9 @@ __all__ = ["LyapunovExponents", "largest_lyapunov", "classify_motion", "VERDICTS
 DEFAULTS = {"steps_per_period": "auto", "periods": 2048, "discard_periods": 64, "blocks": 8}
 #: The tangent's first direction, an angle in the plane (y, v / v_scale): generic, so
 #: that it is along no eigenvector of a simple orbit's monodromy matrix.
-_INITIAL_ANGLE = 1.0
+INITIAL_ANGLE = 1.0
 #: The longest run (periods measured plus discarded): the steady-state search's own cap
-#: on a transient, shooting._CAP_PERIODS, is the same.
+#: on a transient, shooting.CAP_PERIODS, is the same.
 MAX_PERIODS = 120_000
 #: The most lanes of one call, refused before the lanes' arrays are made ...
 MAX_LANES = 1_000_000
@@ -237,7 +237,7 @@ def largest_lyapunov(
     (-168.41, -168.41)
     """
     model = check_model(model)
-    periods, discard, blocks = _check_run(periods, discard_periods, blocks)
+    periods, discard, blocks = check_run(periods, discard_periods, blocks)
     lanes = np.broadcast_shapes(*(np.shape(a) for a in (frequency_hz, pa_frac, y_init_m,
                                                         v_init_m_s)))
     if int(np.prod(lanes)) > MAX_LANES:
@@ -284,8 +284,8 @@ def _benettin(lanes: Lanes, y, v, v_scale: float, periods: int, discard: int, bl
     each; returns the final states, the log growth summed per block, and the period
     in which each lane failed (-1: none)."""
     n = y.size
-    dy = np.full(n, np.cos(_INITIAL_ANGLE))
-    dv = np.full(n, np.sin(_INITIAL_ANGLE) * v_scale)
+    dy = np.full(n, np.cos(INITIAL_ANGLE))
+    dv = np.full(n, np.sin(INITIAL_ANGLE) * v_scale)
     failed = np.full(n, -1, dtype=np.int64)
     args = (lanes.dt, lanes.p_a, lanes.drive, v_scale)
     if discard:
@@ -348,7 +348,7 @@ def _jsonable_steps(steps_per_period):
     return "per lane (steps_used)"
 
 
-def _check_run(periods, discard_periods, blocks) -> tuple[int, int, int]:
+def check_run(periods, discard_periods, blocks) -> tuple[int, int, int]:
     blocks = check_int("blocks", blocks, minimum=4)
     if blocks % 2:
         raise ValueError(f"`blocks` must be even (the error compares the two halves), got "

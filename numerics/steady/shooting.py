@@ -33,14 +33,14 @@ __all__ = ["SteadyStates", "steady_states", "DEFAULTS"]
 DEFAULTS = {"steps_per_period": "auto", "tol": 1e-6, "app_rtol": 5e-3, "max_periods": None,
             "refinements": 2}
 PERIODS_TRIED = (1, 2, 3, 4, 5, 6, 7, 8)
-_CHUNK = 16  # periods marched between settling checks
-_LONGEST_CHUNK = 4096  # ... and at most this many, far past the default cap
+CHUNK = 16  # periods marched between settling checks
+LONGEST_CHUNK = 4096  # ... and at most this many, far past the default cap
 #: The settling cap, in decay times 1/c of the linearised contact (Eq. 2.6): a linear
 #: transient falls by e^-30 = 1e-13 in it. By default a lane marches for this long, but
-#: at least _CAP_PERIODS[0] periods (bouncing orbits dissipate little in short impacts)
-#: and at most _CAP_PERIODS[1] (with next to no damping: bounded time, not a hang).
+#: at least CAP_PERIODS[0] periods (bouncing orbits dissipate little in short impacts)
+#: and at most CAP_PERIODS[1] (with next to no damping: bounded time, not a hang).
 _DECAY_TIMES = 30
-_CAP_PERIODS = (1200, 120_000)
+CAP_PERIODS = (1200, 120_000)
 #: Steps per period follow f_e by default: at least 128, and enough that rate * dt is at
 #: most this, the rate being the contact's fastest (Eq26Numbers.fastest_rate_per_s: a
 #: period at low f_e holds many natural oscillations), but at most
@@ -49,40 +49,40 @@ _AUTO_RATE_DT = 0.5
 _AUTO_MAX_STEPS = 2**16
 #: The most RK4 steps a lane marches in one pass (some 1-5 s for one lane): the cap in
 #: periods is lowered where a period takes many steps, so that no case hangs.
-_LANE_STEP_BUDGET = 2 * 10**8
-_NEWTON_ITERATIONS = 10
-_SPAN_FLOOR = 1e-3  # of y0: the smallest length scale of the settling test
-_REACH_CONTINUATION = 0.5  # how far (relative to App) Newton may move a sweep's guess
-_REACH_POLISH = 1e-2  # how far it may move a marched, settled state
+LANE_STEP_BUDGET = 2 * 10**8
+NEWTON_ITERATIONS = 10
+SPAN_FLOOR = 1e-3  # of y0: the smallest length scale of the settling test
+REACH_CONTINUATION = 0.5  # how far (relative to App) Newton may move a sweep's guess
+REACH_POLISH = 1e-2  # how far it may move a marched, settled state
 #: How far App may move when an orbit is refined (_sharpen), in units of its coarse
 #: step-error estimate: the estimate takes RK4 as second order, App(2N) - App(N) is
 #: at most about the error at N.
-_SHARPEN_SLACK = 2.0
+SHARPEN_SLACK = 2.0
 #: ... and, where the coarse step was too coarse to estimate (omega dt above
-#: _RESOLVED_OMEGA_DT at the orbit's stiffest point), this share of App: on the Fig. 2 + 3
+#: RESOLVED_OMEGA_DT at the orbit's stiffest point), this share of App: on the Fig. 2 + 3
 #: job such orbits moved by at most 1.8e-3 from 128 to 256 steps (94 of them), where a
 #: jump to another branch moves App by tens of per cent or more.
-_UNESTIMATED_SLACK = 1e-2
+UNESTIMATED_SLACK = 1e-2
 #: A p-periodic orbit is taken only where the lag-q stroboscopic differences of every
 #: divisor q of p exceed this many tol (_repeating_period): when lag p first repeats
 #: within tol on the way to a q-periodic orbit, lag q is about |1 - mu| tol <= 2 tol.
-_DISTINCT_LAG = 10.0
-_VERIFY_PERIODS = 16  # march that confirms a continued orbit attracts the previous state
-_VERIFY_SHRINK = 0.5  # by how much the distance to that orbit must shrink meanwhile
-#: The approach check in two stages (_Batch.follows). A lane is decided after the first
-#: _VERIFY_FIRST periods where its march followed the orbit's linearisation, the
+DISTINCT_LAG = 10.0
+VERIFY_PERIODS = 16  # march that confirms a continued orbit attracts the previous state
+VERIFY_SHRINK = 0.5  # by how much the distance to that orbit must shrink meanwhile
+#: The approach check in two stages (Batch.follows). A lane is decided after the first
+#: VERIFY_FIRST periods where its march followed the orbit's linearisation, the
 #: monodromy matrix M Newton ended with: the deviation e_k = x_k - x* from the orbit is
-#: M^k e_0 within _VERIFY_LINEAR of the first distance (measured on the Fig. 2 + 3 job and
+#: M^k e_0 within VERIFY_LINEAR of the first distance (measured on the Fig. 2 + 3 job and
 #: on its 5, 10, 25 and 50 Hz grids, 11,075 checks, before the Newton try after 16 periods
 #: of a march added checks: median 0.002, 90 % below 0.08). Such a
-#: lane's distance at _VERIFY_PERIODS is then predicted, M^(16 - k) e_k, and it is
-#: accepted where that is below _VERIFY_EARLY_SHRINK of the first distance, 0.7 of the
+#: lane's distance at VERIFY_PERIODS is then predicted, M^(16 - k) e_k, and it is
+#: accepted where that is below VERIFY_EARLY_SHRINK of the first distance, 0.7 of the
 #: criterion: the prediction's error was at most 0.095 of the first distance (the
 #: largest distance at 16 periods of an early lane came out 0.34, not 0.5). The other
-#: lanes march on to _VERIFY_PERIODS and the criterion of one stage: their verdict is
+#: lanes march on to VERIFY_PERIODS and the criterion of one stage: their verdict is
 #: unchanged, and the early ones' verdicts agreed with it on all 11,075 checks.
 #:
-#: Why not accept a lane whose distance merely shrank by _VERIFY_SHRINK after a few
+#: Why not accept a lane whose distance merely shrank by VERIFY_SHRINK after a few
 #: periods: a stable orbit (|mu| < 1) attracts its basin only, and the previous point's
 #: state can lie beyond the basin's edge, the stable manifold of a saddle orbit, which
 #: near a fold sits close to the continued orbit. Such a lane first runs along that
@@ -93,25 +93,25 @@ _VERIFY_SHRINK = 0.5  # by how much the distance to that orbit must shrink meanw
 #: 0.1 Q it fell to 0.3 of the first distance in 2 periods. The multipliers say nothing
 #: of the basin's size. But such a lane leaves the orbit's linearisation on its way (the
 #: saddle is where it fails): the departing lanes' deviation from M^k e_0 after 4 periods
-#: was at least 0.099 of the first distance, 5 times _VERIFY_LINEAR. Complex multipliers
+#: was at least 0.099 of the first distance, 5 times VERIFY_LINEAR. Complex multipliers
 #: near |mu| = 0.9 also make the plain distance oscillate (0.65 of the first distance in
 #: 4 periods at the median, 0.25 to 3.7 in between): the linear prediction follows that,
 #: a shrink criterion at 4 periods does not.
-_VERIFY_FIRST = 4
-_VERIFY_LINEAR = 0.02
-_VERIFY_EARLY_SHRINK = 0.7 * _VERIFY_SHRINK
+VERIFY_FIRST = 4
+VERIFY_LINEAR = 0.02
+VERIFY_EARLY_SHRINK = 0.7 * VERIFY_SHRINK
 _EXTREMA_PER_PERIOD = 64  # room for local extrema per period of the response
 #: The error estimate of App is trusted where omega * dt at the orbit's stiffest point is at
 #: most this. Measured on 784 steady states (P_a 0.05-0.5 Q, 250-1800 Hz, 8-128 steps per
 #: period, against 2048 steps): above 0.75 the estimate passed states whose App was wrong
 #: by more than the tolerance (at 1.0: 1.1 %); 0.5 keeps a margin of 1.5 below that.
-_RESOLVED_OMEGA_DT = 0.5
-_ROUNDOFF = 1e-14  # of y0: App changes below this are round-off (about 100 ulp of y0)
+RESOLVED_OMEGA_DT = 0.5
+ROUNDOFF = 1e-14  # of y0: App changes below this are round-off (about 100 ulp of y0)
 #: The orbit's sensitivity 1 / (1 - |mu|) where its multipliers are not known (a lane
 #: settled by marching alone): that of |mu| = 0.9, about the paper's primary peak.
-_UNKNOWN_AMPLIFICATION = 10.0
+UNKNOWN_AMPLIFICATION = 10.0
 #: 2^q - 1 with q = 2, RK4's order through the kink of loss of contact.
-_ORDER_FACTOR = 3.0
+ORDER_FACTOR = 3.0
 
 
 @result
@@ -152,7 +152,7 @@ def _lane_table(points: Orbits, rows: int = 20) -> str:
     return "\n".join(lines)
 
 
-class _Batch(Lanes):
+class Batch(Lanes):
     """The lanes being solved (kernels, steps, drive, limits), with their scales."""
 
     def __init__(self, model, f_e, p_a, steps, tol):
@@ -165,7 +165,7 @@ class _Batch(Lanes):
     def scale(self, span):
         """The length that distances are measured against: the orbit's App, but at
         least a thousandth of y0 (so that a vanishing orbit does not divide by 0)."""
-        return np.maximum(span, _SPAN_FLOOR * self.length)
+        return np.maximum(span, SPAN_FLOOR * self.length)
 
     def distance(self, lanes, dy, dv, scale):
         """Relative distance of two states: |dy|/L + |dv|/(Omega L)."""
@@ -191,7 +191,7 @@ class _Batch(Lanes):
         scale = self.length
         active = np.arange(lanes.shape[0])
         with np.errstate(all="ignore"):  # a lane may diverge: its values are inf or NaN
-            for iteration in range(_NEWTON_ITERATIONS):
+            for iteration in range(NEWTON_ITERATIONS):
                 idx = lanes[active]
                 yp, vp, m = y[active], v[active], np.empty((active.size, 2, 2))
                 k.shoot_periods(yp, vp, self.dt[idx], self.p_a[idx], self.drive, p, m)
@@ -200,14 +200,14 @@ class _Batch(Lanes):
                     shot = yp, vp
                 monodromy[active] = m
                 # (M - I) dx = -(Phi(x) - x), a 2x2 solve per lane.
-                step_y, step_v = _solve_2x2(m - np.eye(2), y[active] - yp, v[active] - vp)
+                step_y, step_v = solve_2x2(m - np.eye(2), y[active] - yp, v[active] - vp)
                 y[active], v[active] = y[active] + step_y, v[active] + step_v
                 size = self.distance(idx, step_y, step_v, scale)
                 converged[active] = np.isfinite(size) & (size < self.tol * 1e-3)
                 active = active[np.isfinite(size) & ~converged[active]]
                 if not active.size:
                     break
-            multipliers = _eigenvalues(monodromy)
+            multipliers = eigenvalues(monodromy)
             moved = self.distance(lanes, y - y_start, v - v_start, self.scale(span))
             near = np.isfinite(moved) & (moved < reach)
         return converged & near & _stable(multipliers), y, v, multipliers, shot
@@ -218,16 +218,16 @@ class _Batch(Lanes):
         Newton can continue a stable orbit whose basin no longer holds the
         previous point's state (bouncing orbits, near a fold); the paper's method
         would jump there. A short march decides, as the paper's method would: the
-        distance to the orbit must shrink by _VERIFY_SHRINK in _VERIFY_PERIODS. Lanes
-        whose first _VERIFY_FIRST periods follow the orbit's linearisation
+        distance to the orbit must shrink by VERIFY_SHRINK in VERIFY_PERIODS. Lanes
+        whose first VERIFY_FIRST periods follow the orbit's linearisation
         (``monodromy``, Newton's, of p periods) are decided then, by its prediction
-        of the distance at _VERIFY_PERIODS (the reasoning is beside the constants).
+        of the distance at VERIFY_PERIODS (the reasoning is beside the constants).
         The march's first p periods are ``shot``, Newton's first Phi_p(y, v): the same
         RK4 steps, not run twice.
         """
         lanes = np.asarray(lanes)
-        full = _VERIFY_PERIODS - _VERIFY_PERIODS % p
-        first = max(_VERIFY_FIRST - _VERIFY_FIRST % p, p)
+        full = VERIFY_PERIODS - VERIFY_PERIODS % p
+        first = max(VERIFY_FIRST - VERIFY_FIRST % p, p)
         scale = self.scale(span)
         dy, dv = y - y_orbit, v - v_orbit
         before = self.distance(lanes, dy, dv, scale)
@@ -240,16 +240,16 @@ class _Batch(Lanes):
             with np.errstate(all="ignore"):  # a diverged lane's state is inf or NaN
                 ey, ev = ym - y_orbit, vm - v_orbit
                 ly, lv = _propagate(monodromy, dy, dv, first // p)
-                linear = self.distance(lanes, ey - ly, ev - lv, scale) <= _VERIFY_LINEAR * before
+                linear = self.distance(lanes, ey - ly, ev - lv, scale) <= VERIFY_LINEAR * before
                 py, pv = _propagate(monodromy, ey, ev, (full - first) // p)
                 predicted = self.distance(lanes, py, pv, scale)
-            early = linear & (predicted < _VERIFY_EARLY_SHRINK * before)
+            early = linear & (predicted < VERIFY_EARLY_SHRINK * before)
         rest = np.flatnonzero(~early)
         ym_rest, vm_rest = ym[rest], vm[rest]
         self._march_verify(lanes[rest], ym_rest, vm_rest, full - marched)
         ym[rest], vm[rest] = ym_rest, vm_rest
         after = self.distance(lanes, ym - y_orbit, vm - v_orbit, scale)
-        return early | (after < _VERIFY_SHRINK * before) | (after < self.tol)
+        return early | (after < VERIFY_SHRINK * before) | (after < self.tol)
 
     def _march_verify(self, lanes, y, v, periods):
         """Advance the approach check's lanes by ``periods`` in place (failures are not
@@ -279,7 +279,7 @@ class _Batch(Lanes):
                 break
             # 16 periods between checks; past the default cap, a quarter of the periods
             # run so far, so that a slow transient takes few calls.
-            chunk = _CHUNK if done < _CAP_PERIODS[0] else min(done // 4, _LONGEST_CHUNK)
+            chunk = CHUNK if done < CAP_PERIODS[0] else min(done // 4, LONGEST_CHUNK)
             idx = lanes[active]
             sy, sv = np.empty((active.size, chunk)), np.empty((active.size, chunk))
             span = np.empty(active.size)
@@ -329,7 +329,7 @@ class _Batch(Lanes):
         # after p periods too (near a period doubling a multiplier near -1 makes lag 2
         # repeat within tol while lag 1 is still at about 2 tol: a period-1 orbit was
         # passed as period 2). It marches on until q is reached, or its cap.
-        distinct = d.min(axis=2) >= _DISTINCT_LAG * self.tol
+        distinct = d.min(axis=2) >= DISTINCT_LAG * self.tol
         for i, p in enumerate(periods):
             divides = (periods < p) & (p % periods == 0)
             reached[:, i] &= distinct[:, divides].all(axis=1)
@@ -337,7 +337,7 @@ class _Batch(Lanes):
         return np.where(reached.any(axis=1), periods[np.argmax(reached, axis=1)], 0)
 
 
-def _solve_2x2(a: np.ndarray, b0: np.ndarray, b1: np.ndarray):
+def solve_2x2(a: np.ndarray, b0: np.ndarray, b1: np.ndarray):
     """Solve a[i] x = (b0[i], b1[i]) per lane by Cramer's rule (NaN where singular)."""
     det = a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0]
     with np.errstate(all="ignore"):
@@ -346,7 +346,7 @@ def _solve_2x2(a: np.ndarray, b0: np.ndarray, b1: np.ndarray):
     return x0, x1
 
 
-def _eigenvalues(monodromy: np.ndarray) -> np.ndarray:
+def eigenvalues(monodromy: np.ndarray) -> np.ndarray:
     with np.errstate(all="ignore"):
         finite = np.isfinite(monodromy).all(axis=(1, 2))
         out = np.full((monodromy.shape[0], 2), np.nan, dtype=complex)
@@ -526,9 +526,9 @@ def check_steps(steps_per_period, refinements: int = 0) -> None:
 
 def settling_cap(frequency_hz: np.ndarray, numbers, max_periods: int | None) -> np.ndarray:
     """Each lane's cap of time marching in periods: ``max_periods``, or by default a
-    time, _DECAY_TIMES decay times 1/c (``numbers``: Eq26Numbers), within _CAP_PERIODS."""
+    time, _DECAY_TIMES decay times 1/c (``numbers``: Eq26Numbers), within CAP_PERIODS."""
     if max_periods is None:
-        cap = np.clip(np.ceil(_DECAY_TIMES * frequency_hz / numbers.c_per_s), *_CAP_PERIODS)
+        cap = np.clip(np.ceil(_DECAY_TIMES * frequency_hz / numbers.c_per_s), *CAP_PERIODS)
     else:
         cap = np.full(frequency_hz.shape, max_periods)
     return cap.astype(np.int64)
@@ -561,16 +561,16 @@ def _solve_by_steps(lanes, steps, f_e, p_a, y, v, guess, span, **solve) -> Orbit
 def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, cap, method,
            continuation, keep_orbits, polish_only: bool = False) -> Orbits:
     """One pass at a fixed step: Newton continuation, then marching and polishing
-    (``polish_only``: Newton from orbits found at fewer steps, within _REACH_POLISH, and
+    (``polish_only``: Newton from orbits found at fewer steps, within REACH_POLISH, and
     nothing else: ``_sharpen``).
 
     A sweep runs the compiled twin of this pass and of what it calls
     (``kernels.sweep_template._solve``): a change here is made there too, and
     tests/test_sweep_compiled.py holds the two equal."""
     f_e, p_a, y, v, guess, span, cap = (a[lanes] for a in (f_e, p_a, y, v, guess, span, cap))
-    # A bounded time: no more than _LANE_STEP_BUDGET steps per lane in this pass.
-    cap = np.minimum(cap, max(_LANE_STEP_BUDGET // steps, _CHUNK))
-    batch = _Batch(model, f_e, p_a, steps, tol)
+    # A bounded time: no more than LANE_STEP_BUDGET steps per lane in this pass.
+    cap = np.minimum(cap, max(LANE_STEP_BUDGET // steps, CHUNK))
+    batch = Batch(model, f_e, p_a, steps, tol)
     state = Orbits.empty(f_e, p_a, steps)
     failed_period = np.full(lanes.size, -1, dtype=np.int64)
     if method == "newton" and continuation:
@@ -578,7 +578,7 @@ def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, c
         for p in np.unique(guess):
             group = np.flatnonzero(guess == p)
             _newton_from(batch, state, group, y[group], v[group], int(p), span[group],
-                         _REACH_POLISH if polish_only else _REACH_CONTINUATION, "newton",
+                         REACH_POLISH if polish_only else REACH_CONTINUATION, "newton",
                          check=not polish_only)
     rest = np.flatnonzero(~state.settled)
     if rest.size and not polish_only:
@@ -592,7 +592,7 @@ def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, c
     return state
 
 
-def _newton_from(batch: _Batch, state: Orbits, group, y, v, p: int, span, reach, method: str,
+def _newton_from(batch: Batch, state: Orbits, group, y, v, p: int, span, reach, method: str,
                  check: bool) -> np.ndarray:
     """Newton from (y, v) on the lanes ``group``: an orbit that converges within ``reach``,
     stable and (``check``) approached by a march from (y, v) is accepted; which were."""
@@ -605,27 +605,27 @@ def _newton_from(batch: _Batch, state: Orbits, group, y, v, p: int, span, reach,
     return ok
 
 
-def _march(batch: _Batch, state: Orbits, rest, y, v, guess, cap, failed_period,
+def _march(batch: Batch, state: Orbits, rest, y, v, guess, cap, failed_period,
            method: str) -> None:
     """Time-march the lanes ``rest`` from (y, v) until they settle or reach their cap.
 
-    With Newton, a lane still moving after the first _CHUNK periods tries Newton from
+    With Newton, a lane still moving after the first CHUNK periods tries Newton from
     there, for the period it was guessed to have, and the approach check (a transient
     that decays by |mu| per period takes some 100 periods to come within tol: this one
     takes Newton's few and the check's 4 to 16); the others march on as if not stopped,
     and are polished by Newton when they repeat."""
     newton = method == "newton"
-    period, ym, vm, span = batch.march(rest, y, v, np.minimum(cap, _CHUNK) if newton else cap,
+    period, ym, vm, span = batch.march(rest, y, v, np.minimum(cap, CHUNK) if newton else cap,
                                        failed_period)
     if newton:
-        moving = np.flatnonzero((period == 0) & (failed_period[rest] < 0) & (cap > _CHUNK))
+        moving = np.flatnonzero((period == 0) & (failed_period[rest] < 0) & (cap > CHUNK))
         for p in np.unique(guess[moving]):
             chosen = moving[guess[moving] == p]
             _newton_from(batch, state, rest[chosen], ym[chosen], vm[chosen], int(p),
-                         span[chosen], _REACH_CONTINUATION, "march+newton", check=True)
+                         span[chosen], REACH_CONTINUATION, "march+newton", check=True)
         on = moving[~state.settled[rest[moving]]]
         period[on], ym[on], vm[on], span[on] = batch.march(rest[on], ym[on], vm[on], cap[on],
-                                                           failed_period, done=_CHUNK)
+                                                           failed_period, done=CHUNK)
     open_lanes = ~state.settled[rest]
     state.y_start_m[rest[open_lanes]] = ym[open_lanes]
     state.v_start_m_s[rest[open_lanes]] = vm[open_lanes]
@@ -635,7 +635,7 @@ def _march(batch: _Batch, state: Orbits, rest, y, v, guess, cap, failed_period,
         if newton:
             # Polish: the marched state is within about tol of the orbit.
             ok = _newton_from(batch, state, group, marched_y, marched_v, int(p), span[chosen],
-                              _REACH_POLISH, "march+newton", check=False)
+                              REACH_POLISH, "march+newton", check=False)
             group, marched_y, marched_v = group[~ok], marched_y[~ok], marched_v[~ok]
         _accept(state, group, marched_y, marched_v, int(p), None, "march")
 
@@ -649,7 +649,7 @@ def _accept(state: Orbits, lanes, y, v, p, multipliers, method) -> None:
     state.method[lanes] = method
 
 
-def _fate(state: Orbits, batch: _Batch, failed_period, cap: np.ndarray,
+def _fate(state: Orbits, batch: Batch, failed_period, cap: np.ndarray,
           app_rtol: float) -> None:
     """Status and message of the lanes that did not settle, or settled too coarsely."""
     too_coarse = (np.zeros(state.status.size, dtype=bool) if app_rtol is None
@@ -674,7 +674,7 @@ def under_resolved_message(estimate: float, app_rtol: float, steps: int) -> str:
     why = (f"App's estimated step error {estimate:.2g} exceeds app_rtol={app_rtol:g}"
            if np.isfinite(estimate) else
            f"the step is too coarse for the contact's stiffest point (omega*dt > "
-           f"{_RESOLVED_OMEGA_DT:g}), so App's error cannot be estimated")
+           f"{RESOLVED_OMEGA_DT:g}), so App's error cannot be estimated")
     return (f"under-resolved: {why} at {steps} steps per period; "
             "raise steps_per_period or refinements")
 
@@ -687,11 +687,11 @@ def not_settled_message(cap: int) -> str:
 
 #: How good each status is (0 best), indexed by status + 1: a finer pass replaces a
 #: result only if it is at least as good (an under-resolved orbit beats no orbit).
-_RANK = np.array([3, 0, 2, 1])  # failed, success, not settled, under-resolved
+RANK = np.array([3, 0, 2, 1])  # failed, success, not settled, under-resolved
 
 
 def _rank(status: np.ndarray) -> np.ndarray:
-    return _RANK[status - int(Status.FAILED)]
+    return RANK[status - int(Status.FAILED)]
 
 
 def _sharpen(state: Orbits, redo: np.ndarray, steps: np.ndarray, f_e, p_a, solve: dict
@@ -703,7 +703,7 @@ def _sharpen(state: Orbits, redo: np.ndarray, steps: np.ndarray, f_e, p_a, solve
     Only orbits that Newton continued from the lane's initial state and that passed
     the approach check are refined so: the finer orbit is that orbit, moved by the
     step's error, so it needs neither the approach check nor a march, and Newton from
-    it, within _REACH_POLISH, is all it takes (tests/benchmarks/bench_sweep.py times
+    it, within REACH_POLISH, is all it takes (tests/benchmarks/bench_sweep.py times
     the saving). An orbit the coarse pass marched to is solved again from the initial
     state: the coarse map's attractors can differ from the fine one's (a review found a
     32-step march at 0.1 Q, 755 Hz reaching a 34 nm orbit where the 128-step one
@@ -717,10 +717,10 @@ def _sharpen(state: Orbits, redo: np.ndarray, steps: np.ndarray, f_e, p_a, solve
                             polish_only=True)
     # The same orbit, refined: App moves by about the coarse estimate, not more. (Without
     # this, a 16-step down sweep at 0.3 Q left the bouncing branch for a small orbit whose
-    # start lay within _REACH_POLISH of it: tests/test_hard_cases.py.)
+    # start lay within REACH_POLISH of it: tests/test_hard_cases.py.)
     moved = np.abs(sharp.app_m - state.app_m[coarse])
     estimate = state.error_estimate[coarse]
-    slack = np.where(np.isfinite(estimate), _SHARPEN_SLACK * estimate, _UNESTIMATED_SLACK)
+    slack = np.where(np.isfinite(estimate), SHARPEN_SLACK * estimate, UNESTIMATED_SLACK)
     found = ((sharp.settled | (sharp.status == Status.UNDER_RESOLVED))
              & (moved <= slack * state.app_m[coarse]))
     _merge(state, coarse[found], sharp.take(np.flatnonzero(found)))
@@ -736,7 +736,7 @@ def _merge(state: Orbits, lanes: np.ndarray, finer: Orbits) -> None:
     state.periods_run[lanes] = cost
 
 
-def _record_orbits(batch: _Batch, state: Orbits, keep_orbits: bool) -> None:
+def _record_orbits(batch: Batch, state: Orbits, keep_orbits: bool) -> None:
     """Run one period of the response from each orbit start, noting every extremum.
 
     A p-periodic orbit is also 2p-, 4p-periodic; the stroboscopic samples of the
@@ -779,7 +779,7 @@ def _record_orbits(batch: _Batch, state: Orbits, keep_orbits: bool) -> None:
                 state.orbit_y_m[lane] = ends.copy()
 
 
-def _least_period_multipliers(batch: _Batch, state: Orbits, lanes: np.ndarray,
+def _least_period_multipliers(batch: Batch, state: Orbits, lanes: np.ndarray,
                               least: np.ndarray) -> None:
     """The Floquet multipliers of the least period, where Newton ran on a multiple of it.
 
@@ -799,10 +799,10 @@ def _least_period_multipliers(batch: _Batch, state: Orbits, lanes: np.ndarray,
         batch.kernels.shoot_periods(y, v, batch.dt[group], batch.p_a[group], batch.drive,
                                     int(q), monodromy)
         batch.periods_run[group] += q
-        state.multipliers[group] = _eigenvalues(monodromy)
+        state.multipliers[group] = eigenvalues(monodromy)
 
 
-def _estimate_step_error(batch: _Batch, state: Orbits) -> None:
+def _estimate_step_error(batch: Batch, state: Orbits) -> None:
     """App's relative error from the step, estimated on each settled orbit.
 
     One orbit period from the orbit's start at half the steps gives App(N/2). With
@@ -810,14 +810,14 @@ def _estimate_step_error(batch: _Batch, state: Orbits) -> None:
     of contact RK4's order falls to 2: q = 2 is taken. One period sees the error made in one
     period; the periodic orbit itself moves by that error times 1 / (1 - |mu|), mu
     the largest Floquet multiplier (near a resonance, |mu| nears 1), so the change
-    is scaled by it (by _UNKNOWN_AMPLIFICATION where the multipliers are not known).
-    A change below round-off of y (_ROUNDOFF y0) is taken as that round-off: a tiny
+    is scaled by it (by UNKNOWN_AMPLIFICATION where the multipliers are not known).
+    A change below round-off of y (ROUNDOFF y0) is taken as that round-off: a tiny
     App is known only to it. The comparison holds only in RK4's asymptotic range:
-    where omega * dt at the stiffest point of the orbit exceeds _RESOLVED_OMEGA_DT
+    where omega * dt at the stiffest point of the orbit exceeds RESOLVED_OMEGA_DT
     the error cannot be estimated, and the estimate is inf (the lane is refined).
     """
     settled = np.flatnonzero(state.settled)
-    resolved = _stiffest_omega_dt(batch, state, settled) <= _RESOLVED_OMEGA_DT
+    resolved = _stiffest_omega_dt(batch, state, settled) <= RESOLVED_OMEGA_DT
     state.error_estimate[settled[~resolved]] = np.inf  # no half-step run for these
     settled = settled[resolved]
     if not settled.size:
@@ -826,15 +826,15 @@ def _estimate_step_error(batch: _Batch, state: Orbits) -> None:
     half = _orbit_app(batch, state, settled, max(batch.steps // 2, 2))
     largest = np.abs(state.multipliers[settled]).max(axis=1)
     with np.errstate(all="ignore"):
-        amplification = np.where(largest < 1, 1 / (1 - largest), _UNKNOWN_AMPLIFICATION)
-        floor = _ROUNDOFF * batch.length
-        change = np.maximum(np.abs(app - half), floor) * amplification / _ORDER_FACTOR
+        amplification = np.where(largest < 1, 1 / (1 - largest), UNKNOWN_AMPLIFICATION)
+        floor = ROUNDOFF * batch.length
+        change = np.maximum(np.abs(app - half), floor) * amplification / ORDER_FACTOR
         # An App at round-off itself is rest: there is nothing to resolve.
         estimate = np.where(app <= floor, 0.0, change / app)
     state.error_estimate[settled] = np.nan_to_num(estimate, nan=np.inf)
 
 
-def _stiffest_omega_dt(batch: _Batch, state: Orbits, lanes: np.ndarray) -> np.ndarray:
+def _stiffest_omega_dt(batch: Batch, state: Orbits, lanes: np.ndarray) -> np.ndarray:
     """omega * dt with omega^2 = -da/dy, the contact's local stiffness over M, at the
     orbit's extremes (the stiffest points of a hardening or softening law), taken by
     a central difference of the model's own acceleration."""
@@ -848,7 +848,7 @@ def _stiffest_omega_dt(batch: _Batch, state: Orbits, lanes: np.ndarray) -> np.nd
     return worst * batch.dt[lanes]
 
 
-def _orbit_app(batch: _Batch, state: Orbits, lanes: np.ndarray, steps: int) -> np.ndarray:
+def _orbit_app(batch: Batch, state: Orbits, lanes: np.ndarray, steps: int) -> np.ndarray:
     """App over one orbit period from each orbit's start, at ``steps`` per period."""
     coarse = Lanes(batch.model, batch.frequency_hz[lanes], batch.p_a[lanes], steps)
     app = np.empty(lanes.size)

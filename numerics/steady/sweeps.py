@@ -194,7 +194,7 @@ def sweep(
     p_a = np.array([frac for frac, _ in lanes]) * model.parameters.Q_n
 
     start = time.perf_counter()
-    points = _sweep_lanes(freq, p_a, model, quiet, steps_per_period=steps_per_period, tol=tol,
+    points = sweep_points(freq, p_a, model, quiet, steps_per_period=steps_per_period, tol=tol,
                           app_rtol=app_rtol, max_periods=max_periods, method=method,
                           refinements=refinements, keep_orbits=keep_orbits, engine=engine)
     runs = [
@@ -334,7 +334,7 @@ def _jump_within(lo: dict, hi: dict, model, accuracy) -> np.ndarray:
     return jumped
 
 
-def _sweep_lanes(freq, p_a, model, quiet, start: Orbits | None = None, *,
+def sweep_points(freq, p_a, model, quiet, start: Orbits | None = None, *,
                  engine: str = "auto", **accuracy) -> Orbits:
     """Walk every lane through its frequencies; the points, frequency by frequency.
 
@@ -351,7 +351,7 @@ def _sweep_lanes(freq, p_a, model, quiet, start: Orbits | None = None, *,
 
 
 def _walk(freq, p_a, model, quiet, start, engine, **accuracy) -> Orbits:
-    """``_sweep_lanes``' walk by the engine asked for."""
+    """``sweep_points``' walk by the engine asked for."""
     chosen = engine
     if engine == "auto":
         engine = "compiled" if sweep_driver_built(model) else "python"
@@ -454,7 +454,7 @@ def _resweep_finer(points: Orbits, row: int, seed_row: int, freq, p_a, model, en
         check_steps(finer, accuracy["refinements"])
     except ValueError:
         return False
-    again = _sweep_lanes(freq[lane:lane + 1, point:], p_a[lane:lane + 1], model, True,
+    again = sweep_points(freq[lane:lane + 1, point:], p_a[lane:lane + 1], model, True,
                          start=points.take([seed_row]), engine=engine,
                          **(accuracy | {"steps_per_period": finer}))
     points.put(np.arange(row, points.status.size, lanes), again)

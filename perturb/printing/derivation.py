@@ -43,13 +43,13 @@ from ..series.harmonics import Term
 from ..series.lindstedt import Series, gain_closed_form, lag_closed_form
 from .names import paper_names
 from .report import (
-    _check_series,
-    _latex,
-    _left_side_latex,
-    _left_side_text,
-    _line,
-    _split_row,
+    check_series,
+    equation_line,
     generic_right_side,
+    latex_of,
+    left_side_latex,
+    left_side_text,
+    split_row,
 )
 
 __all__ = ["derivation_text", "derivation_latex"]
@@ -183,7 +183,7 @@ class _Derivation:
         names = {sp.Symbol(f"u_{i}"): sp.Symbol(f"u{i}") for i in range(n)}
         names.update({sp.Symbol(f"du_{i}"): sp.Symbol(f"u{i}'") for i in range(n)})
         names.update({sym.b(k): self.b(k) for k in range(1, n + 1)})
-        left = (_left_side_text(n, "u"), _left_side_latex(n))
+        left = (left_side_text(n, "u"), left_side_latex(n))
         rows = [_Row(generic.xreplace(names), left)]
         if n:
             known = {sym.b(k): 0 for k in range(1, n) if not self.series.has_b(k)}
@@ -300,7 +300,7 @@ def _orders(series: Series, each_order: Callable[[], object] | None) -> list[lis
     return orders
 
 
-def _heading(n: int, series: Series) -> tuple[str, str]:
+def heading_lines(n: int, series: Series) -> tuple[str, str]:
     if not series.is_eq26:
         return (f"Order eps^{n}", rf"Order $\varepsilon^{{{n}}}$")
     if n <= PAPER_ORDER:
@@ -353,9 +353,9 @@ def derivation_text(series: Series, *, each_order: Callable[[], object] | None =
     Order eps^2 (Eq. 2.10)
         b2 = A1*h*cos(phi1) + 2*A2*h
     """
-    lines = _preamble(_check_series(series))
+    lines = _preamble(check_series(series))
     for n, steps in enumerate(_orders(series, each_order)):
-        lines.append(_heading(n, series)[0])
+        lines.append(heading_lines(n, series)[0])
         for step in steps:
             lines.append("  " + step.title[0])
             lines += ["    " + _text_row(row) for row in step.rows]
@@ -364,7 +364,7 @@ def derivation_text(series: Series, *, each_order: Callable[[], object] | None =
 
 def _consistent_preamble(series: Series) -> list[str]:
     """The first lines of the study of a series that keeps more than Eq. 2.6."""
-    from .report import _heading as report_heading
+    from .report import heading_lines as report_heading
 
     equation, *coefficients = report_heading(series)[1:]
     return [
@@ -387,7 +387,7 @@ def _text_row(row: _Row) -> str:
         return f"  = {sp.sstr(row.right)}"
     if isinstance(row.left, tuple):
         return f"{row.left[0]} = {sp.sstr(row.right)}"
-    return _line(row.left, row.right, pretty=False)
+    return equation_line(row.left, row.right, pretty=False)
 
 
 def derivation_latex(series: Series, *, each_order: Callable[[], object] | None = None) -> str:
@@ -402,9 +402,9 @@ def derivation_latex(series: Series, *, each_order: Callable[[], object] | None 
     >>> print(tex[tex.index(r"\ddot u_{1}"):].splitlines()[0])
     \ddot u_{1} + 2c\,\dot u_{1} + \omega^2 u_{1} &= b_{1} u_{0} - h u_{0}^{2} \tag{2.9}\\
     """
-    out = [rf"% {line}" for line in _preamble(_check_series(series))]
+    out = [rf"% {line}" for line in _preamble(check_series(series))]
     for n, steps in enumerate(_orders(series, each_order)):
-        out.append(rf"\paragraph{{{_heading(n, series)[1]}}}")
+        out.append(rf"\paragraph{{{heading_lines(n, series)[1]}}}")
         out.append(steps[0].title[1])
         out.append(r"\begin{align*}")
         rows = []
@@ -425,12 +425,12 @@ def _latex_rows(rows: tuple[_Row, ...]) -> list[str]:
     first = True
     for row in rows:
         if row.harmonic is not None:
-            out.append(_split_row(_latex(row.right), first=first))
+            out.append(split_row(latex_of(row.right), first=first))
             first = False
         elif row.left is None:
-            out.append(rf"&= {_latex(row.right)}")
+            out.append(rf"&= {latex_of(row.right)}")
         elif isinstance(row.left, tuple):
-            out.append(rf"{row.left[1]} &= {_latex(row.right)}")
+            out.append(rf"{row.left[1]} &= {latex_of(row.right)}")
         else:
-            out.append(rf"{_latex(row.left)} &= {_latex(row.right)}")
+            out.append(rf"{latex_of(row.left)} &= {latex_of(row.right)}")
     return out

@@ -30,7 +30,7 @@ _LATEX_SINGLE = {"b": "b", "H": "H", "theta": r"\theta", "u": "u"}
 _PAPER_PHASE = re.compile(r"^phi(\d+)$")  # the paper's phases phi0-phi9 (``derivation``)
 
 
-def _check_series(series) -> Series:
+def check_series(series) -> Series:
     if not isinstance(series, Series):
         raise ValueError(f"`series` must be a Series (from `derive`), got {series!r}.")
     return series
@@ -91,11 +91,11 @@ def latex_names(expr: sp.Expr) -> dict[sp.Symbol, str]:
     return names
 
 
-def _left_side_text(n: int, u: str = "u_") -> str:
+def left_side_text(n: int, u: str = "u_") -> str:
     return f"{u}{n}'' + 2*c*{u}{n}' + omega**2*{u}{n}"
 
 
-def _left_side_latex(n: int) -> str:
+def left_side_latex(n: int) -> str:
     return rf"\ddot u_{{{n}}} + 2c\,\dot u_{{{n}}} + \omega^2 u_{{{n}}}"
 
 
@@ -133,7 +133,7 @@ def _transfer_lines(series: Series) -> list[tuple[sp.Expr, sp.Expr]]:
     return lines
 
 
-def _line(left: sp.Expr, right: sp.Expr, pretty: bool) -> str:
+def equation_line(left: sp.Expr, right: sp.Expr, pretty: bool) -> str:
     if pretty:
         return sp.pretty(sp.Eq(left, right, evaluate=False), use_unicode=True, wrap_line=False)
     return f"{sp.sstr(left)} = {sp.sstr(right)}"
@@ -152,20 +152,20 @@ def text_report(series: Series, *, pretty: bool = False, each_order=None) -> str
         Called with no argument after each order is written (for progress: the
         closed forms of high orders take long to simplify and print).
     """
-    _check_series(series)
+    check_series(series)
 
     def block(left: sp.Expr, right: sp.Expr, indent: str) -> list[str]:
-        return [indent + row for row in _line(left, right, pretty).splitlines()]
+        return [indent + row for row in equation_line(left, right, pretty).splitlines()]
 
     lines = [
-        *_heading(series),
+        *heading_lines(series),
         "Eq. 2.7:",
         *block(sym.omega**2, series.omega_squared(), "  "),
         "Transfer of harmonic k: H_k*exp(I*theta_k) = 1/(omega**2 - k**2*Omega**2 + 2*I*k*c*Omega)",
     ]
     for n in range(series.order + 1):
         lines.append(f"-- eps^{n}")
-        lines.append(f"  {_left_side_text(n)} = {sp.sstr(generic_right_side(n, series))}")
+        lines.append(f"  {left_side_text(n)} = {sp.sstr(generic_right_side(n, series))}")
         for label, left, right in _order_items(series, n):
             lines += block(left, right, "    " if label == "closed form" else "  ")
         if each_order is not None:
@@ -176,7 +176,7 @@ def text_report(series: Series, *, pretty: bool = False, each_order=None) -> str
     return "\n".join(lines) + "\n"
 
 
-def _heading(series: Series) -> list[str]:
+def heading_lines(series: Series) -> list[str]:
     """The report's first lines: Eq. 2.6, or the equation in contact with the closed form
     of each coefficient the truncation keeps beyond it."""
     if series.is_eq26:
@@ -214,7 +214,7 @@ def _consistent_latex_heading(series: Series) -> list[str]:
     u, du = sp.Symbol("u"), sp.Symbol("udot")  # sorts after u: d_1 u \dot u
     extra = sp.Add(*_kept_terms(series, u, du))
     extra_latex = sp.latex(extra, symbol_names={**latex_names(extra), du: r"\dot u"})
-    rows = [rf"{_latex(sym.coefficient(kind, j))} &= {_latex(coefficient_closed_form(kind, j))}"
+    rows = [rf"{latex_of(sym.coefficient(kind, j))} &= {latex_of(coefficient_closed_form(kind, j))}"
             for kind, j in series.coefficients]
     return [
         rf"% Perturbation series of the equation in contact to order {series.order}, "
@@ -222,16 +222,16 @@ def _consistent_latex_heading(series: Series) -> list[str]:
         r"\begin{align*}",
         rf"\ddot u + 2c\,\dot u + \omega_0^2 u + {extra_latex} &= G\cos(\Omega t)\\",
         *(row + r"\\" for row in rows),
-        rf"\omega^2 &= {_latex(series.omega_squared())}",
+        rf"\omega^2 &= {latex_of(series.omega_squared())}",
         r"\end{align*}",
     ]
 
 
-def _latex(expr: sp.Expr) -> str:
+def latex_of(expr: sp.Expr) -> str:
     return sp.latex(expr, symbol_names=latex_names(expr))
 
 
-def _split_row(term: str, *, first: bool) -> str:
+def split_row(term: str, *, first: bool) -> str:
     """One harmonic of the split right side: the split opens with ``=`` (as Eq. 2.9
     and 2.10 write it), each further harmonic continues the sum with its sign."""
     if first:
@@ -250,31 +250,31 @@ def latex_report(series: Series) -> str:
         &= -\frac{A_{0,1}^2 h}{2} \\
         &\phantom{=}\quad - \frac{A_{0,1}^2 h \cos(2\Omega t + 2\varphi_{0,1})}{2}
     """
-    _check_series(series)
+    check_series(series)
     out = [
         rf"% Perturbation series of Eq. 2.6 to order {series.order} (perturb derive)",
         r"\begin{align*}",
         r"\ddot u + 2c\,\dot u + \omega_0^2 u + \varepsilon h u^2 &= G\cos(\Omega t)\\",
-        rf"\omega^2 &= {_latex(series.omega_squared())}",
+        rf"\omega^2 &= {latex_of(series.omega_squared())}",
         r"\end{align*}",
     ] if series.is_eq26 else _consistent_latex_heading(series)
     for n in range(series.order + 1):
         out.append(rf"\paragraph{{$\varepsilon^{{{n}}}$}}")
         out.append(r"\begin{align*}")
-        rows = [rf"{_left_side_latex(n)} &= {_latex(generic_right_side(n, series))}"]
+        rows = [rf"{left_side_latex(n)} &= {latex_of(generic_right_side(n, series))}"]
         split = 0
         for label, left, right in _order_items(series, n):
             if label == "right side":
-                rows.append(_split_row(_latex(right), first=split == 0))
+                rows.append(split_row(latex_of(right), first=split == 0))
                 split += 1
             else:
-                rows.append(rf"{_latex(left)} &= {_latex(right)}")
+                rows.append(rf"{latex_of(left)} &= {latex_of(right)}")
         out.append("\\\\\n".join(rows))
         out.append(r"\end{align*}")
     out.append(r"\begin{align*}")
     out.append(
         "\\\\\n".join(
-            rf"{_latex(left)} &= {_latex(right)}" for left, right in _transfer_lines(series)
+            rf"{latex_of(left)} &= {latex_of(right)}" for left, right in _transfer_lines(series)
         )
     )
     out.append(r"\end{align*}")
@@ -297,7 +297,7 @@ def series_json(series: Series) -> dict:
     >>> data["b"], data["terms"][2]["amplitude"]
     ({'1': '0'}, 'A_0_1**2*h/(2*sqrt(16*Omega**2*c**2 + (-4*Omega**2 + omega**2)**2))')
     """
-    _check_series(series)
+    check_series(series)
     from .names import paper_names
 
     terms = []

@@ -77,7 +77,7 @@ from .codegen import NEXT_ORDERS, series_kernels, series_kernels_built
 __all__ = ["frequency_response", "Response", "Branch"]
 
 #: Offsets of the extra grid points around each resonance k Omega, in units of c.
-_RESONANCE_OFFSETS = np.array([-12.0, -6.0, -3.0, -1.5, -0.75, 0.0, 0.75, 1.5, 3.0, 6.0, 12.0])
+RESONANCE_OFFSETS = np.array([-12.0, -6.0, -3.0, -1.5, -0.75, 0.0, 0.75, 1.5, 3.0, 6.0, 12.0])
 #: Frequencies solved together: the grid of a chunk (about 125 omega per frequency)
 #: and its brackets take some 20 MB at the defaults.
 FREQUENCIES_PER_CHUNK = 2048
@@ -207,7 +207,7 @@ class Response(Result):
         )
 
 
-def _match_distance(rows: np.ndarray, roots: np.ndarray, c: float) -> np.ndarray:
+def match_distance(rows: np.ndarray, roots: np.ndarray, c: float) -> np.ndarray:
     """How far a root of the next orders may lie from an order-N root and match it.
 
     At most c (the half-width of the linear resonance, rad/s) and less than
@@ -267,7 +267,7 @@ def truncation_error(kernels, values, G, Omega, rows, base: _Roots, app, tables)
     reconstructed u(t) of the order-M series (in the time frame of the
     excitation) on its root nearest to the order-N root (secant steps,
     ``nearby_roots`` of the compiled kernels; NaN where no root of order N+k
-    lies within ``_match_distance``), and pp is max - min over a period;
+    lies within ``match_distance``), and pp is max - min over a period;
     ``base`` holds the order-N roots of frequencies ``Omega[rows]``. It bounds
     |App_(N+k) - App_N| / App_N. The term b_(N+1) left out of the frequency
     equation is what the resonance amplifies; at even N it is zero (b_n = 0 for
@@ -287,7 +287,7 @@ def truncation_error(kernels, values, G, Omega, rows, base: _Roots, app, tables)
         else:
             if later is None:
                 omega, found = kernels.nearby_roots(
-                    G, Omega_r, base.omega, _match_distance(rows, base.omega, values.c_per_s),
+                    G, Omega_r, base.omega, match_distance(rows, base.omega, values.c_per_s),
                     values.c_per_s, _k_d(kernels, values), values.omega0_rad_s)
                 later = _at_roots(kernels, values, G, omega, Omega_r), found
             other, matched = later
@@ -514,11 +514,11 @@ def _roots(kernels, values, G, Omega, omega_range, grid_points):
     """Every root omega of the frequency equation: (frequency index, omega) per root.
 
     The grid of each frequency: ``grid_points`` uniform in ``omega_range``, and
-    points at k Omega + ``_RESONANCE_OFFSETS`` c for k = 1..N+1, clipped to the range.
+    points at k Omega + ``RESONANCE_OFFSETS`` c for k = 1..N+1, clipped to the range.
     """
     lo, hi = omega_range[0] * values.omega0_rad_s, omega_range[1] * values.omega0_rad_s
     return kernels.find_roots(G, Omega, np.linspace(lo, hi, grid_points),
-                              values.c_per_s * _RESONANCE_OFFSETS, kernels.ORDER + 1, lo, hi,
+                              values.c_per_s * RESONANCE_OFFSETS, kernels.ORDER + 1, lo, hi,
                               values.c_per_s, _k_d(kernels, values), values.omega0_rad_s)
 
 

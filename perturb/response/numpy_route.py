@@ -23,7 +23,7 @@ from ..series.truncation import (
     measures_model_distance,
     truncation_for,
 )
-from .frequency import _RESONANCE_OFFSETS, _match_distance
+from .frequency import RESONANCE_OFFSETS, match_distance
 
 __all__ = ["solve_chunk", "harmonics_in_drive_frame", "sample_waveform", "refined_at"]
 
@@ -39,12 +39,12 @@ def _residual(formulas: SeriesFormulas, values, G, omega, Omega):
         part = slice(start, start + _CHUNK)
         w, W = omega[part], Omega[part]
         a0 = G[part] / np.hypot(w**2 - W**2, 2 * values.c_per_s * W)
-        shift = formulas.frequency_shift(a0, w, W, *_arguments(formulas, values))
+        shift = formulas.frequency_shift(a0, w, W, *series_arguments(formulas, values))
         flat[part] = w**2 - values.omega0_rad_s**2 - shift
     return out
 
 
-def _arguments(formulas, values) -> tuple[float, ...]:
+def series_arguments(formulas, values) -> tuple[float, ...]:
     """c and the equation's coefficients that ``formulas`` take (h first)."""
     return (values.c_per_s, *values.coefficients(formulas.coefficients))
 
@@ -54,7 +54,7 @@ def _omega_grid(Omega, order, values, omega_range, points):
     lo, hi = omega_range[0] * values.omega0_rad_s, omega_range[1] * values.omega0_rad_s
     uniform = np.broadcast_to(np.linspace(lo, hi, points), (Omega.size, points))
     k = np.arange(1, order + 2)
-    offsets = values.c_per_s * _RESONANCE_OFFSETS[None, None, :]
+    offsets = values.c_per_s * RESONANCE_OFFSETS[None, None, :]
     near = (k[None, :, None] * Omega[:, None, None]) + offsets
     grid = np.concatenate([uniform, near.reshape(Omega.size, -1)], axis=1)
     return np.sort(np.clip(grid, lo, hi), axis=1)
@@ -153,7 +153,7 @@ def harmonics_in_drive_frame(formulas, values, a0, omega, Omega) -> np.ndarray:
     can be subtracted, and the simulator's orbit (which starts at the drive's
     phase 0) can be started on them.
     """
-    amplitudes = formulas.amplitudes(a0, omega, Omega, *_arguments(formulas, values))
+    amplitudes = formulas.amplitudes(a0, omega, Omega, *series_arguments(formulas, values))
     per_harmonic = formulas.harmonics([np.broadcast_to(z, a0.shape) for z in amplitudes])
     theta_1 = -np.angle(omega**2 - Omega**2 + 2j * values.c_per_s * Omega)
     k = np.arange(per_harmonic.shape[-1])
@@ -232,7 +232,7 @@ def truncation_error(order, values, G, Omega, rows, roots, base, app,
     max over k = 1, 2 of pp(u_(N+k) - u_N) / App_N, where u_M is the
     reconstructed u(t) of the order-M series (in the time frame of the
     excitation) on its root nearest to the order-N root (``_nearby_root``;
-    NaN where no root of order N+k lies within ``_match_distance``), and pp
+    NaN where no root of order N+k lies within ``match_distance``), and pp
     is max - min over a period; ``base`` is u_N sampled over a period (lanes,
     samples), as ``_waveform`` gives it. It bounds |App_(N+k) - App_N| / App_N. The
     term b_(N+1) left out of the frequency equation is what the resonance
@@ -244,7 +244,7 @@ def truncation_error(order, values, G, Omega, rows, roots, base, app,
     to 11 while it is 1.4 % off RK4 of Eq. 2.6, and the waveform still moves.
     """
     Omega_r, G_r = Omega[rows], np.full(rows.size, G)
-    distance = _match_distance(rows, roots, values.c_per_s)
+    distance = match_distance(rows, roots, values.c_per_s)
     solved = {compile_series(order, truncation, compiled=compiled).b_orders:
               (roots, np.ones(roots.size, dtype=bool))}
     error = np.zeros(roots.size)
@@ -273,7 +273,7 @@ def model_distance(order, values, G, Omega, rows, roots, base, app,
                    compiled: bool = True) -> np.ndarray:
     """How far the order-N series of Eq. 2.6 is from the contact's own equation:
     pp(u_C - u_N) / App_N, u_C the consistent series of order N+2 on its root nearest to
-    the order-N root (NaN where none lies within ``_match_distance``), ``base`` u_N
+    the order-N root (NaN where none lies within ``match_distance``), ``base`` u_N
     sampled over a period. Zero on the paper's own contact (m2 = 2, l = 1), whose flags
     are the paper's, and where the consistent series is Eq. 2.6's (m2 = 2, l = 0).
 
@@ -284,7 +284,7 @@ def model_distance(order, values, G, Omega, rows, roots, base, app,
     truncation = truncation_for("consistent", values.parameters)
     formulas = compile_series(order + 2, truncation, compiled=compiled)
     Omega_r, G_r = Omega[rows], np.full(rows.size, G)
-    distance = _match_distance(rows, roots, values.c_per_s)
+    distance = match_distance(rows, roots, values.c_per_s)
     omega, matched = _nearby_root(formulas, values, G_r, Omega_r, roots, distance)
     step = _waveform_distance(formulas, values, G, Omega_r, omega, base, app)
     return np.where(matched & np.isfinite(step), step, np.nan)

@@ -80,10 +80,11 @@ def _check_roots(formulas, values, branch, Omega, at_rest, truncation) -> None:
     """Raise a ValueError naming ``truncation`` if the branch's roots are not roots of
     that series' frequency equation (Eq. 2.7): a branch of the other truncation, whose
     orbits would come out wrong by as much as the truncations differ."""
-    from .numpy_route import _arguments
+    from .numpy_route import series_arguments
 
     omega, a0 = branch.omega_rad_s[~at_rest], branch.a0_m[~at_rest]
-    shift = formulas.frequency_shift(a0, omega, Omega[~at_rest], *_arguments(formulas, values))
+    shift = formulas.frequency_shift(a0, omega, Omega[~at_rest],
+                                     *series_arguments(formulas, values))
     residual = np.abs(omega**2 - values.omega0_rad_s**2 - shift) / omega**2
     if np.any(residual > 1e-8):
         raise ValueError(f"`branch` is not a branch of the {truncation!r} series of order "

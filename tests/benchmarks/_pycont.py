@@ -18,7 +18,7 @@ v / (omega0 y0), f / f_n0), split as u = z[:2] and the parameter p = z[2].
   that same residual call, the Jacobian ``continue_orbits`` uses.
 
 The walks mirror ``continue_orbits``': from the stable orbit reached from rest at the
-band's lower end (``_first_point``, the same start point), up in f; if that walk does
+band's lower end (``first_point``, the same start point), up in f; if that walk does
 not reach the band's upper end, a second from the orbit at the upper end, down. Where
 a package has a knob that ``continue_orbits`` has, it gets ``continue_orbits``' value.
 """
@@ -37,7 +37,7 @@ from unittest import mock
 import numpy as np
 
 from numerics.continuation.period_map import NEWTON_ITERATIONS, NEWTON_TOL, PeriodMap, Point
-from numerics.continuation.walk import _DS_MIN, _DS_START, DEFAULTS, _first_point
+from numerics.continuation.walk import DEFAULTS, DS_MIN, DS_START, first_point
 from perturb import ContactModel
 
 __all__ = ["INSTALL", "contique_walks", "installed_version", "period_map", "pycont_walks",
@@ -125,7 +125,7 @@ def _walk_band(shoot: PeriodMap, model: ContactModel, fmin_hz: float, fmax_hz: f
     for f_start, direction in ((fmin_hz, +1), (fmax_hz, -1)):
         walk = Walk(f_start, direction)
         walks.append(walk)
-        first, reached = _first_point(shoot, model, f_start)
+        first, reached = first_point(shoot, model, f_start)
         if first is None:
             walk.ending = f"no start: {reached}"
         else:
@@ -143,9 +143,9 @@ def pycont_settings(shoot: PeriodMap, fmin_hz: float, fmax_hz: float, direction:
     as ``continue_orbits``'."""
     f_n0 = shoot.scale[2]
     return {
-        "ds_min": _DS_MIN,  # continue_orbits gives up below the same step
+        "ds_min": DS_MIN,  # continue_orbits gives up below the same step
         "ds_max": DEFAULTS["ds_max"],
-        "ds_0": _DS_START,
+        "ds_0": DS_START,
         "n_steps": DEFAULTS["max_points"],
         "verbosity": "off",
         "solver_parameters": {
@@ -276,7 +276,7 @@ def contique_settings(direction: int, step_max: float = DEFAULTS["ds_max"]) -> d
         "increase": 0.5,  # x (1 + 0.5 (8 - iterations) / 8)
         "decrease": 2.0,
         "high": 1.0,  # never above step_max
-        "low": _DS_MIN / step_max,  # continue_orbits gives up below the same step
+        "low": DS_MIN / step_max,  # continue_orbits gives up below the same step
         "minlastfailed": 1,
     }
 

@@ -29,7 +29,8 @@ from unittest import mock
 
 import numpy as np
 
-from numerics import compiled_kernels, continue_orbits, drive_table, sweep
+from numerics import continue_orbits, sweep
+from numerics.kernels import compiled_kernels, drive_table
 from perturb import ContactModel, eq26_numbers
 
 from ._pycont import (
@@ -135,14 +136,14 @@ def _continue_locating_every_fold():
 def _patiently(function):
     """``function()`` with the walk's corrections as before the contraction test and the
     stall hand-over: Newton spends its 12 iterations at a corner, and a step shrinks to
-    ``_DS_MIN`` before a step in f alone is tried (``period_map._CONTRACTION``,
+    ``DS_MIN`` before a step in f alone is tried (``period_map._CONTRACTION``,
     ``walk._STALL_DS``). The walk down at the coarser N that "auto" no longer
     makes is not emulated."""
     from numerics.continuation import period_map as period_map_module
     from numerics.continuation import walk as walk_module
 
     with mock.patch.object(period_map_module, "_CONTRACTION", np.inf), \
-            mock.patch.object(walk_module, "_STALL_DS", walk_module._DS_MIN):
+            mock.patch.object(walk_module, "_STALL_DS", walk_module.DS_MIN):
         return function()
 
 
@@ -164,7 +165,7 @@ def _corners_as_before(function):
     failed below it shrank by _CORNER_SHRINK (halved, as any other)."""
     from numerics.continuation import walk as c
 
-    with mock.patch.multiple(c, _CORNER_CEILING=1.0, _CORNER_SHRINK=c._SHRINK):
+    with mock.patch.multiple(c, _CORNER_CEILING=1.0, _CORNER_SHRINK=c.SHRINK):
         return function()
 
 

@@ -43,7 +43,11 @@ ACCURACIES = (1e-4, 1e-6, 1e-8)  # |y - y_reference| / y0 after 3 periods
 _TIMES = r"""
 import json, statistics, sys, time
 import numpy as np
-from numerics import compiled_kernels, drive_table, sweep
+from numerics import sweep
+try:
+    from numerics.kernels import compiled_kernels, drive_table
+except ImportError:  # a route's tree from before the kernels had their own folder
+    from numerics import compiled_kernels, drive_table
 from perturb import PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel, eq26_numbers
 
 repeats = int(sys.argv[1])

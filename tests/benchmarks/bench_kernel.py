@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from numerics import compiled_kernels, drive_table
+from numerics.kernels import compiled_kernels, drive_table
 from perturb import PAPER, ContactModel, eq26_numbers
 
 from ._textbook import PARAMETERS, textbook_rk4

@@ -23,7 +23,8 @@ from unittest import mock
 
 import numpy as np
 
-from numerics import compiled_kernels, sweep
+from numerics import sweep
+from numerics.kernels import compiled_kernels
 from numerics.steady import sweep_compiled, sweeps
 from perturb import PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel, eq26_numbers
 

@@ -134,14 +134,14 @@ def test_near_the_bouncing_fold_the_walk_gives_up_stalled_newtons_and_creeping_s
     # Regression, for the continuation's speed goal. Near the bouncing fold at 0.15 Q the map's
     # corners made Newton stall (all 12 iterations and their line searches, then a failed
     # step) and the steps creep towards corners where the branch turns back, ever shorter,
-    # down to 1e-9. The contraction test (period_map._CONTRACTION) and the stall
-    # hand-over to a step in f alone (walk._STALL_DS) took the Python walk at
+    # down to 1e-9. The contraction test (WalkOptions.contraction) and the stall
+    # hand-over to a step in f alone (WalkOptions.stall_ds) took the Python walk at
     # N = 1024 from 37,603 evaluations of R to 17,629, with the same folds; with the
-    # shrink by the turn (walk._TURN_SHARE), 35,132 without them and 17,409 with
+    # shrink by the turn (WalkOptions.turn_share), 35,132 without them and 17,409 with
     # them; with Newton's stop by estimate (period_map.near_enough) and steps past
     # ds_max on the bouncing arcs (walk.largest_step), 9,822; with the corner's
     # step grown with the orbit's size as the largest step is (walk.corner_step)
-    # and a step that fails below it shrunk by 4 (walk._CORNER_SHRINK), 6,553;
+    # and a step that fails below it shrunk by 4 (WalkOptions.corner_shrink), 6,553;
     # with each contact switch located within its step (a map smooth between switches,
     # with no corners), 2,584 (measured).
     from unittest import mock
@@ -156,9 +156,9 @@ def test_near_the_bouncing_fold_the_walk_gives_up_stalled_newtons_and_creeping_s
     assert spy.call_count <= 2_720  # measured 2,584: 5 % more is seen
 
 
-def test_newtons_stop_by_estimate_keeps_the_walk_on_the_branch(monkeypatch):
+def test_newtons_stop_by_estimate_keeps_the_walk_on_the_branch():
     # The walk's arclength steps stop Newton once the steps still to come, at the rate of
-    # the last two, add up to less than NEWTON_TOL (period_map.near_enough): that
+    # the last two, add up to less than newton_tol (period_map.near_enough): that
     # saves the evaluation of R which would only show the next step below it. Route 2, the
     # exact test alone: at 0.05 Q the same 120 points, stability and folds (measured
     # within 1.8e-12 Hz; the points themselves lie up to 6e-8 apart along the branch, as
@@ -166,15 +166,15 @@ def test_newtons_stop_by_estimate_keeps_the_walk_on_the_branch(monkeypatch):
     # against 347 (Python walk).
     from unittest import mock
 
-    from numerics.continuation import period_map
+    from numerics.continuation import WalkOptions
     from numerics.continuation.period_map import PeriodMap
 
     runs, calls = {}, {}
     for estimated in (True, False):
-        monkeypatch.setattr(period_map, "_ESTIMATED", estimated)
         with mock.patch.object(PeriodMap, "residual", autospec=True,
                                side_effect=PeriodMap.residual) as spy:
-            runs[estimated] = continue_orbits(0.05, 1300.0, 1600.0, engine="python")
+            runs[estimated] = continue_orbits(0.05, 1300.0, 1600.0, engine="python",
+                                              options=WalkOptions(stop_by_estimate=estimated))
         calls[estimated] = spy.call_count
     (a,), (b,) = runs[True].branches, runs[False].branches
     assert a.frequency_hz.size == b.frequency_hz.size == 120
@@ -806,12 +806,10 @@ def test_folds_are_located_once_the_walk_knows_which_turns_are_folds():
     # and the same points in the same order but those that extra locations kept (none
     # now; 61 with the zigzag). Each fold located is where f turns: a point inserted one
     # place off would not be an extreme of f.
-    from numerics.continuation import walk as walk_module
+    from numerics.continuation import WalkOptions
 
     run = continue_orbits(0.15, 250.0, 1800.0)
-    with pytest.MonkeyPatch.context() as patched:
-        patched.setattr(walk_module, "_NEAR_TURN", 10**9)
-        every = continue_orbits(0.15, 250.0, 1800.0)
+    every = continue_orbits(0.15, 250.0, 1800.0, options=WalkOptions(near_turn=10**9))
     assert [b.as_dict() for b in run.bifurcations] == [b.as_dict() for b in every.bifurcations]
     ours, theirs = run.branches[0], every.branches[0]
     kept = np.isin(theirs.frequency_hz, ours.frequency_hz)

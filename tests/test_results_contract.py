@@ -135,24 +135,39 @@ def test_every_field_of_every_result_is_in_the_glossary():
 
 #: Mappings whose keys are values, not names: amplitudes and model names.
 KEYED_BY_VALUE = {"parting", "models"}
+#: Mappings whose keys are the fields of a settings class, documented field by field
+#: there (the glossary names the mapping).
+SETTINGS_OBJECTS = {"walk_options"}
 
 
-def _json_keys(data, found: set) -> set:
+def json_keys(data, found: set | None = None) -> set:
+    """Every key of a result's JSON (and of its nested objects), for the glossary."""
+    found = set() if found is None else found
     if isinstance(data, dict):
         for key, value in data.items():
             found.add(key)
-            if key not in KEYED_BY_VALUE:
-                _json_keys(value, found)
+            if key in SETTINGS_OBJECTS:
+                _check_settings_object(key, value)
+            elif key not in KEYED_BY_VALUE:
+                json_keys(value, found)
     elif isinstance(data, list):
         for item in data:
-            _json_keys(item, found)
+            json_keys(item, found)
     return found
+
+
+def _check_settings_object(key: str, value: dict) -> None:
+    from numerics import WalkOptions
+
+    cls = {"walk_options": WalkOptions}[key]
+    assert set(value) == {f.name for f in fields(cls)}, key
+    assert cls.from_dict(value).as_dict() == value  # it reads back as it was written
 
 
 @pytest.mark.parametrize("name", sorted(FACTORIES))
 def test_every_json_key_is_in_the_glossary(name, instances):
     # Settings and the model included: one name per quantity, in the files too.
-    keys = _json_keys(instances[name].as_dict(), set())
+    keys = json_keys(instances[name].as_dict())
     assert keys <= set(GLOSSARY), sorted(keys - set(GLOSSARY))
 
 

@@ -24,6 +24,8 @@ from perturb import (
 )
 from perturb.common import Status, load
 
+from .test_results_contract import json_keys
+
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
 frequency_response = _partial(frequency_response, truncation="paper")
 
@@ -729,13 +731,7 @@ def test_every_json_key_of_an_orbit_scene_is_in_the_glossary():
     keys = set()
     for text in (_with(CONTINUATION, "switch_branches = true\n"), FOLDS,
                  _with(ATLAS, "overlay_folds = false\n")):
-        keys |= _json_keys(run_scene(parse_scene(text)).as_dict())
+        keys |= json_keys(run_scene(parse_scene(text)).as_dict())
     assert keys <= set(GLOSSARY), sorted(keys - set(GLOSSARY))
 
 
-def _json_keys(data) -> set:
-    if isinstance(data, dict):
-        return set(data) | {k for v in data.values() for k in _json_keys(v)}
-    if isinstance(data, list):
-        return {k for v in data for k in _json_keys(v)}
-    return set()

@@ -118,39 +118,43 @@ def test_a_damaged_walk_file_is_written_and_compiled_again(tmp_path, monkeypatch
     assert run.settings["engine"] == "compiled" and run.branches[0].status == 0
 
 
-def test_the_compiled_walk_reads_each_number_where_python_writes_it(monkeypatch):
-    # The settings array is filled in Walk.__init__ (and PeriodMap.newton_settings) and
-    # read by index in the template: each index must hold the number of its name. Numbers
-    # that are equal by default (_SIZE_CEILING and _CORNER_CEILING 20, SHRINK and
-    # _CONTRACTION 0.5, ds_max and _STRAIGHT 0.03) are made distinct here, and all are
-    # checked to be, so that two indices swapped fail.
+def test_the_compiled_walk_reads_each_number_of_its_options_by_name():
+    # The walk's numbers reach the compiled walk as a named tuple (WalkNumbers), made from
+    # its WalkOptions: each field must hold the option of its name. Options that are equal
+    # by default (size_ceiling and corner_ceiling 20, shrink and contraction 0.5, ...) are
+    # made distinct here, and all are checked to be, so that two fields swapped fail.
+    # The template must read every field: one it never reads is a setting without effect.
+    import dataclasses
+    import re
+
     from numerics.continuation import period_map as m
     from numerics.continuation import walk as c
+    from numerics.continuation.options import WalkNumbers, WalkOptions
+    from numerics.kernels import walk_codegen
 
-    monkeypatch.setattr(c, "_CORNER_CEILING", 21.0)
-    monkeypatch.setattr(m, "_CONTRACTION", 0.55)
-    shoot = m.ForceMap(ContactModel(), 1400.0, 512, 1)
+    options = WalkOptions(ds_start=2e-3, ds_min=3e-9, stall_ds=4e-5, grow=1.6, shrink=0.45,
+                          easy_iterations=4, turn_share=0.85, corner_ds=1.1e-3,
+                          corner_ceiling=21.0, corner_shrink=0.26, straight=0.032,
+                          size_reference=2.2, size_ceiling=19.0, near_turn=5,
+                          newton_tol=1.1e-10, newton_iterations=13, newton_reach=0.12,
+                          backtracks=7, contraction=0.55, stop_by_estimate=True)
+    shoot = m.ForceMap(ContactModel(), 1400.0, 512, 1, options=options)
     walk = c.Walk(shoot, 0.01, 0.2, 1, 0.031, 0.07, 10, None)
-    module = shoot.walker
-    expected = {"DS_MIN": c.DS_MIN, "_DS_MAX": 0.031, "_MAX_ANGLE": 0.07, "GROW": c.GROW,
-                "SHRINK": c.SHRINK, "_CORNER_DS": c._CORNER_DS, "_EASY": c.EASY_ITERATIONS,
-                "_STALL": c._STALL_DS,
-                "_TOL": m.NEWTON_TOL, "_ITERATIONS": m.NEWTON_ITERATIONS,
-                "_REACH": m._NEWTON_REACH, "_BACKTRACKS": m._BACKTRACKS,
-                "_CONTRACTION": 0.55, "_ESTIMATED": float(m._ESTIMATED),
-                "_F_LO": 0.01 / shoot.scale[2], "_F_HI": 0.2 / shoot.scale[2],
-                "_TURN_SHARE": c._TURN_SHARE, "_STRAIGHT": c._STRAIGHT,
-                "_SIZE_REFERENCE": c._SIZE_REFERENCE, "_SIZE_CEILING": c._SIZE_CEILING,
-                "_CORNER_CEILING": 21.0, "_CORNER_SHRINK": c._CORNER_SHRINK}
-    assert len(set(expected.values())) == len(expected)  # a swap of any two would show
-    assert walk.settings.size == len(expected) == module._SETTINGS
-    for name, value in expected.items():
-        assert walk.settings[getattr(module, name)] == value, name
+    given = {"ds_max": 0.031, "max_angle": 0.07, "f_lo": 0.01 / shoot.scale[2],
+             "f_hi": 0.2 / shoot.scale[2]}
+    expected = {name: float(given[name] if name in given else getattr(options, name))
+                for name in WalkNumbers._fields}
+    assert len(set(expected.values()) - {1.0}) == len(expected) - 1  # distinct but "True"
+    assert walk.settings._asdict() == expected
+    unused = {f.name for f in dataclasses.fields(WalkOptions)} - set(WalkNumbers._fields)
+    assert unused == {"ds_start", "near_turn"}  # Python's alone: the walk's start, its folds
+    read = set(re.findall(r"settings\.(\w+)", walk_codegen._TEMPLATE.read_text()))
+    assert read == set(WalkNumbers._fields)
 
 
 def test_the_corners_step_grows_with_the_orbit_but_not_past_ds_max():
-    # ``corner_step`` in Python and in the compiled walk: _CORNER_DS (1e-3) times the
-    # orbit's size |(y, v)| in z over _SIZE_REFERENCE (2), up to _CORNER_CEILING times,
+    # ``corner_step`` in Python and in the compiled walk: corner_ds (1e-3) times the
+    # orbit's size |(y, v)| in z over size_reference (2), up to corner_ceiling times,
     # and never above the user's ds_max (with ds_max = 0.005 at 0.15 Q the uncapped step
     # reached 0.014, so that a sharp turn over any step up to ds_max was taken for a
     # corner; capped, that walk took 5075 points against 4978, the same two folds:
@@ -166,8 +170,9 @@ def test_the_corners_step_grows_with_the_orbit_but_not_past_ds_max():
         z = np.array([0.6 * size, -0.8 * size, 0.3])
         settings = c.Walk(shoot, 250.0, 1800.0, 1, ds_max, 0.1, 10, None).settings
         # rel 1e-12: the round-off of |(y, v)| alone (0.6 and 0.8 are not exact in binary).
-        assert c.corner_step(z, ds_max) == pytest.approx(step, rel=1e-12), (ds_max, size)
-        assert module.corner_step(z, settings) == c.corner_step(z, ds_max), (ds_max, size)
+        python = c.corner_step(z, ds_max, shoot.options)
+        assert python == pytest.approx(step, rel=1e-12), (ds_max, size)
+        assert module.corner_step(z, settings) == python, (ds_max, size)
 
 
 def test_both_engines_walk_the_same_bouncing_branch_at_0_15_q():

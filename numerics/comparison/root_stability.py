@@ -28,7 +28,7 @@ import numpy as np
 from perturb import ContactModel, Response, eq26_numbers, series_orbits
 from perturb.common import Result, Status, check_int, check_positive, result
 
-from ..continuation.period_map import NEWTON_TOL
+from ..continuation.options import WalkOptions
 from ..steady.shooting import SPAN_FLOOR, Batch, eigenvalues, solve_2x2
 
 __all__ = ["SeriesBranchStability", "SeriesStability", "series_stability", "DEFAULTS"]
@@ -39,8 +39,9 @@ DEFAULTS = {"steps_per_period": 512, "reach": 4.0}
 #: most 0.28 of it, at the 1/2 superharmonic peak (742 Hz, 0.15 Q).
 _RK4_ERROR_ORDER = 4
 #: ``Batch.newton`` stops when a step is below tol * 1e-3 (of y0): this tol makes that
-#: the continuation's corrector tolerance, NEWTON_TOL (1e-10 y0).
-_NEWTON_BATCH_TOL = NEWTON_TOL * 1e3
+#: the continuation's corrector tolerance, ``WalkOptions.newton_tol`` (1e-10 y0).
+_NEWTON_TOL = WalkOptions().newton_tol
+_NEWTON_BATCH_TOL = _NEWTON_TOL * 1e3
 
 
 @result
@@ -249,7 +250,7 @@ def _shoot(model, lanes: _Roots, p_a: float, steps: int) -> _Found:
         batch.kernels.shoot_periods(yp, vp, batch.dt, batch.p_a, batch.drive, 1, monodromy)
         step_y, step_v = solve_2x2(monodromy - np.eye(2), y - yp, v - vp)
         size = batch.distance(index, step_y, step_v, batch.length)
-    converged = np.isfinite(size) & (size < NEWTON_TOL)
+    converged = np.isfinite(size) & (size < _NEWTON_TOL)
     return _Found(y, v, eigenvalues(monodromy), converged)
 
 

@@ -6,7 +6,8 @@
   doublings located;
 - ``force``: ``continue_in_force``, the walk in P_a at one f_e;
 - ``branch_switch``: ``switch_branch``, the period-2p branch born at a period doubling;
-- ``folds``: ``fold_curves``, folds continued in the (f_e, P_a) plane, with their cusps.
+- ``folds``: ``fold_curves``, folds continued in the (f_e, P_a) plane, with their cusps;
+- ``options``: ``WalkOptions``, the tuning every walk takes (step control, corrector).
 """
 
 from perturb.common import lazy_names
@@ -27,6 +28,7 @@ _LAZY = {
     "PeriodMap": ".period_map",
     "ForceMap": ".period_map",
     "Point": ".period_map",
+    "WalkOptions": ".options",
 }
 
 __getattr__, __dir__ = lazy_names(__name__, _LAZY, globals())
@@ -42,6 +44,7 @@ __all__ = [
     "ForceMap",
     "PeriodMap",
     "Point",
+    "WalkOptions",
     "continue_in_force",
     "continue_orbits",
     "fold_curves",

@@ -23,6 +23,7 @@ import numpy as np
 from perturb import ContactModel
 from perturb.common import Status
 
+from .options import WalkOptions
 from .period_map import PeriodMap
 from .walk import (
     PERIODS_TRIED,
@@ -90,8 +91,11 @@ def switch_branch(run: Continuation, bifurcation: Bifurcation, *, quiet: bool = 
     settings = run.settings
     p_a = run.pa_frac * model.parameters.Q_n
     engine = settings.get("engine", "auto")  # the engine the run walked with
-    old = PeriodMap(model, p_a, settings["steps_per_period"], branch.period, engine)
-    new = PeriodMap(model, p_a, settings["steps_per_period"], 2 * branch.period, engine)
+    # The run's tuning (a run saved before it was recorded: the defaults).
+    options = WalkOptions.from_dict(settings.get("walk_options", {}))
+    old = PeriodMap(model, p_a, settings["steps_per_period"], branch.period, engine, options)
+    new = PeriodMap(model, p_a, settings["steps_per_period"], 2 * branch.period, engine,
+                    options)
     at = branch.frequency_hz == bifurcation.frequency_hz
     z_star = old.scaled(branch.y_start_m[at][0], branch.v_start_m_s[at][0],
                         bifurcation.frequency_hz)

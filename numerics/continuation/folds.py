@@ -56,19 +56,10 @@ from perturb.common import Result, Status, check_positive, progress, result
 
 from ..kernels.lanes import Lanes
 from ..simulation.rk4 import check_model
+from .options import WalkOptions
 from .period_map import PeriodMap, Point
 from .walk import DEFAULTS as _CONTINUATION_DEFAULTS
-from .walk import (
-    DS_MIN,
-    DS_START,
-    EASY_ITERATIONS,
-    GROW,
-    LOCATE_TOL,
-    SHRINK,
-    Bifurcation,
-    check_walk,
-    continue_orbits,
-)
+from .walk import LOCATE_TOL, Bifurcation, check_options, check_walk, continue_orbits
 
 __all__ = ["Cusp", "FoldCurve", "FoldCurves", "fold_curves", "DEFAULTS"]
 
@@ -93,7 +84,7 @@ _H_OUTER = 1e-7
 _CUSP_RISE = 1e-3
 #: How far (relative) the f_e of a fold that ``FoldCurves.folds_at`` corrects may lie from
 #: the fold of the N-step map: its ``frequency_tol_hz`` over f_e. Newton on the fold system
-#: converges quadratically there (3 iterations), so once its step is below NEWTON_TOL
+#: converges quadratically there (3 iterations), so once its step is below newton_tol
 #: (1e-10 in w, 1.5e-7 Hz) the point is a root to the round-off of R and g, which then
 #: bounds f_e. Measured on the paper's model (tests/test_folds.py): within 4.2e-15 f_e of
 #: ``continue_orbits``' located folds (another route: Brent on the tangent, 15 folds of
@@ -207,7 +198,8 @@ class FoldCurves(Result):
         times f_e)."""
         pa_frac = check_positive("pa_frac", pa_frac)
         fold_map = FoldMap(ContactModel.from_dict(self.model),
-                           self.settings["steps_per_period"])
+                           self.settings["steps_per_period"],
+                           WalkOptions.from_dict(self.settings.get("walk_options", {})))
         found = []
         for curve in self.fold_curves:
             w = fold_map.scaled(curve.y_start_m, curve.v_start_m_s, curve.frequency_hz,
@@ -248,10 +240,11 @@ def resonance_name(m: int) -> str:
 class FoldMap(PeriodMap):
     """The fold system [R; g] of period-1 orbits in w = (y/y0, v/(omega0 y0), f/f_n0, a)."""
 
-    def __init__(self, model: ContactModel, steps: int) -> None:
+    def __init__(self, model: ContactModel, steps: int,
+                 options: WalkOptions | None = None) -> None:
         # Its residual, the fold system [R; g], is its own: Newton on it stays in Python
         # (the compiled walk's corrects R alone).
-        super().__init__(model, 0.0, steps, period=1, engine="python")
+        super().__init__(model, 0.0, steps, period=1, engine="python", options=options)
         self.q_n = model.parameters.Q_n
         self.model = model
 
@@ -310,6 +303,7 @@ def fold_curves(
     max_angle: float = DEFAULTS["max_angle"],
     max_points: int = DEFAULTS["max_points"],
     quiet: bool = True,
+    options: WalkOptions | None = None,
 ) -> FoldCurves:
     """Continue the folds of period-1 orbits in (f_e, P_a) over a box, with their cusps.
 
@@ -331,6 +325,10 @@ def fold_curves(
         The step control, as in ``continue_orbits`` (``max_points`` per walk).
     quiet : bool
         No progress bar on stderr.
+    options : WalkOptions, optional
+        The walks' tuning, as in ``continue_orbits``: the seeds' walks and the fold
+        curves' (which take its steps and corrector, not its corners: they walk over
+        none).
 
     Returns
     -------
@@ -351,6 +349,7 @@ def fold_curves(
         raise ValueError(f"`pa_max` must be above `pa_min`, got {pa_min!r} and {pa_max!r}.")
     seeds = _seed_levels(seed_pa_fracs, pa_min, pa_max)
     ds_max, max_angle, max_points = check_walk(1, ds_max, max_angle, max_points)
+    options = check_options(options)
     start = time.perf_counter()
     bar = progress(len(seeds), "folds", quiet=quiet)
     box = (fmin_hz, fmax_hz, pa_min, pa_max)
@@ -359,9 +358,9 @@ def fold_curves(
         # ValueError (a band out of the model's reach) comes from here, before any work.
         run = continue_orbits(pa_frac, fmin_hz, fmax_hz, model=model,
                               steps_per_period=steps_per_period, ds_max=ds_max,
-                              max_angle=max_angle, quiet=True)
+                              max_angle=max_angle, quiet=True, options=options)
         if fold_map is None:
-            fold_map = FoldMap(model, run.settings["steps_per_period"])
+            fold_map = FoldMap(model, run.settings["steps_per_period"], options)
         for fold, w in _seed_points(fold_map, run):
             seed_folds.append(fold)
             if any(_distance_to(w, curve) < _ON_CURVE for curve, *_ in walks):
@@ -378,7 +377,8 @@ def fold_curves(
         cusps += its_cusps
     settings = {"fmin_hz": fmin_hz, "fmax_hz": fmax_hz, "pa_min": pa_min, "pa_max": pa_max,
                 "seed_pa_fracs": list(seeds), "steps_per_period": fold_map.steps,
-                "ds_max": ds_max, "max_angle": max_angle, "max_points": max_points}
+                "ds_max": ds_max, "max_angle": max_angle, "max_points": max_points,
+                "walk_options": options.as_dict()}
     return FoldCurves(fold_curves=curves, cusps=cusps, seeds=seed_folds, model=model.as_dict(),
                       settings=settings, elapsed_s=time.perf_counter() - start)
 
@@ -458,13 +458,13 @@ class Walk:
         along_a = direction * _E_A
         self.orientation = first.orientation(first.tangent(_E_A, 1.0) * direction) or 1.0
         self._keep(first, first.tangent(along_a, self.orientation))
-        ds = DS_START
+        ds = self.map.options.ds_start
         while len(self.points) < self.max_points:
             step = self._step(ds)
             if step is None:
                 _, _, f, a = self.map.physical(self.points[-1].z)
-                self._end(f"step below {DS_MIN:g} at f_e = {f:.6g} Hz, P_a = {a:.6g} Q: "
-                          "Newton does not converge there")
+                self._end(f"step below {self.map.options.ds_min:g} at f_e = {f:.6g} Hz, "
+                          f"P_a = {a:.6g} Q: Newton does not converge there")
                 return
             point, t, ds = step
             if self._outside(point.z):
@@ -487,8 +487,8 @@ class Walk:
 
     def _step(self, ds: float):
         """One accepted step from the last point: (point, tangent, next ds), or None."""
-        z, t = self.points[-1].z, self.tangents[-1]
-        while ds >= DS_MIN:
+        z, t, options = self.points[-1].z, self.tangents[-1], self.map.options
+        while ds >= options.ds_min:
             point = self.map.correct(z + ds * t, t, t @ z + ds)
             if point is not None:
                 t_new = point.tangent(t, self.orientation)
@@ -497,9 +497,9 @@ class Walk:
                 # sharp turns over short steps were measured to crawl there (2000 points
                 # over 1 Hz at 0.065 Q, 1198 Hz) instead of getting through.
                 if np.arccos(np.clip(t_new @ t, -1.0, 1.0)) <= self.max_angle:
-                    grow = point.iterations <= EASY_ITERATIONS
-                    return point, t_new, min(ds * GROW, self.ds_max) if grow else ds
-            ds *= SHRINK
+                    grow = point.iterations <= options.easy_iterations
+                    return point, t_new, min(ds * options.grow, self.ds_max) if grow else ds
+            ds *= options.shrink
         return None
 
     def _cusp(self, point: Point, t: np.ndarray) -> None:

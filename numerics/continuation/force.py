@@ -18,6 +18,7 @@ from perturb.common import Result, check_choice, check_positive, result
 
 from ..simulation.rk4 import check_model
 from ..steady.sweeps import ENGINES
+from .options import WalkOptions
 from .period_map import ForceMap
 from .walk import (
     DEFAULTS,
@@ -25,6 +26,7 @@ from .walk import (
     ContinuedBranch,
     branch_steps,
     check_band,
+    check_options,
     check_walk,
     count_kinds,
     walk_finest,
@@ -84,6 +86,7 @@ def continue_in_force(
     max_points: int = DEFAULTS["max_points"],
     quiet: bool = True,
     engine: str = "auto",
+    options: WalkOptions | None = None,
 ) -> ForceContinuation:
     """Continue the p-periodic orbit reached at ``pa_min`` from rest up to ``pa_max``, at
     one f_e: the force-response curve, through its folds.
@@ -96,7 +99,7 @@ def continue_in_force(
         The range of P_a / Q (pa_min >= 0). The branch starts at the stable orbit that
         time marching from rest reaches at ``pa_min`` and, if it ends inside the range,
         a second walk starts from the one reached at ``pa_max``, down in P_a.
-    model, period, steps_per_period, ds_max, max_angle, max_points, quiet, engine
+    model, period, steps_per_period, ds_max, max_angle, max_points, quiet, engine, options
         As in ``continue_orbits`` ("auto" steps: ``steady_states``' choice at f_e, but at
         least 512, walked again at twice N while a walk stops at a corner).
 
@@ -121,12 +124,14 @@ def continue_in_force(
         raise ValueError(f"`pa_max` must be above `pa_min`, got {pa_min!r} and {pa_max!r}.")
     ds_max, max_angle, max_points = check_walk(period, ds_max, max_angle, max_points)
     check_choice("engine", engine, ENGINES)
+    options = check_options(options)
     check_band("frequency_hz", f_e, model.parameters)
     steps = branch_steps(steps_per_period, f_e, eq26_numbers(model.parameters))
     start = time.perf_counter()
     q = model.parameters.Q_n
     shoot, branches, bifurcations = walk_finest(
-        lambda n: ForceMap(model, f_e, n, period, engine), steps, steps_per_period == "auto", model,
+        lambda n: ForceMap(model, f_e, n, period, engine, options), steps,
+        steps_per_period == "auto", model,
         pa_min * q, pa_max * q, ds_max, max_angle, max_points, quiet)
     settings = {"pa_min": pa_min, "pa_max": pa_max,
                 **walk_settings(shoot, ds_max, max_angle, max_points)}

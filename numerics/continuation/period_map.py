@@ -26,51 +26,29 @@ from perturb import ContactModel, eq26_numbers
 
 from ..kernels.codegen import compiled_kernels
 from ..kernels.lanes import drive_table
+from .options import WalkOptions
 
 __all__ = ["ForceMap", "PeriodMap", "Point", "floquet_multipliers", "near_enough"]
 
-#: Newton stops when the scaled update is below this (y to 1e-10 y0, some 2e-17 m on
-#: the paper's model; the round-off of one period of RK4 is about 1e-13 y0).
-NEWTON_TOL = 1e-10
-NEWTON_ITERATIONS = 12
-#: Newton gives up when a step exceeds this (in z: a tenth of y0, of f_n0): it has left
-#: the point it was asked to correct.
-_NEWTON_REACH = 0.1
-_BACKTRACKS = 6
-#: The walk's arclength steps give Newton up when a step is not at most this share of
-#: the step before it (the contraction test of predictor-corrector continuation; the walk
-#: then tries a shorter step). Where it converges Newton contracts quadratically, or
-#: linearly at a corner of the map; where it stalls at a corner it spent its 12
-#: iterations and their line searches for nothing: at 0.15 Q, N = 1024, failed
-#: corrections took 22,170 of the walk's 38,399 evaluations of R, 7 to 47 each
-#: (2026-11-23, Python walk). Other corrections (a step in f alone, Brent's points, the
-#: first point, the band's edge) stay patient: at 0.17 Q, N = 2048, with those impatient
-#: too, the walk down ends at 273.1 Hz (269.6 Hz patient) and the bouncing fold (263.27
-#: Hz) is not found.
-_CONTRACTION = 0.5
-#: The walk's arclength steps stop by ``near_enough`` (False: by the exact test alone, the
-#: route before it, which ``bench_continuation`` times beside).
-_ESTIMATED = True
-
-
-def near_enough(step: float, before: float) -> bool:
+def near_enough(step: float, before: float, tol: float) -> bool:
     """Whether the walk's Newton may stop after the step ``step`` (the largest component
     of it; ``before``, of the step before it): the steps still to come, at the rate
     q = step / before, add up to at most step q / (1 - q) (the a posteriori bound of a
-    contraction), so the iterate is within NEWTON_TOL of the root once that is.
+    contraction), so the iterate is within ``tol`` (``WalkOptions.newton_tol``) of the
+    root once that is.
 
-    This saves the evaluation of R that would only show the next step below NEWTON_TOL:
+    This saves the evaluation of R that would only show the next step below ``tol``:
     at 0.15 Q, N = 1024, Newton's steps on the bouncing arcs are some 2e-5, 4e-9, 4e-14
     (medians), and 4e-9 x 2e-4 is 8e-13. There the Python walk took 14,031 evaluations of
     R against 17,409, with the same folds (2026-11-23, before ``largest_step``). It
     stands in for one iteration, and is counted as one (``Point.iterations``), so that
     the step control sees the iterations the exact test took. The iterate's Jacobian
     and monodromy are those at the start of its last step (the exact test, too, keeps
-    those from before its last step, one below NEWTON_TOL). Patient corrections (Brent's
+    those from before its last step, one below ``tol``). Patient corrections (Brent's
     points, a step in f alone, the first point, the fold curves) keep the exact test.
     """
     rate = step / before
-    return rate < 1.0 and step * rate < NEWTON_TOL * (1.0 - rate)
+    return rate < 1.0 and step * rate < tol * (1.0 - rate)
 
 
 @dataclass
@@ -134,12 +112,14 @@ def floquet_multipliers(monodromy) -> np.ndarray:
 
 
 class PeriodMap:
-    """Phi_p at one P_a and N steps per period, in the scaled unknowns z."""
+    """Phi_p at one P_a and N steps per period, in the scaled unknowns z; ``options``,
+    the walk's tuning (its corrector's here, its step control for the walks on it)."""
 
     def __init__(self, model: ContactModel, p_a_n: float, steps: int, period: int,
-                 engine: str = "auto") -> None:
+                 engine: str = "auto", options: WalkOptions | None = None) -> None:
         numbers = eq26_numbers(model.parameters)
         self.model, self.engine = model, engine
+        self.options = WalkOptions() if options is None else options
         self.kernels = compiled_kernels(model)
         self.steps, self.period = steps, period
         self.drive = drive_table(steps)
@@ -159,17 +139,6 @@ class PeriodMap:
         from ..kernels.walk_codegen import compiled_walk
 
         return compiled_walk(self.model)
-
-    def newton_settings(self, contraction: float | None = None,
-                        estimated: bool | None = None) -> list[float]:
-        """The corrector's numbers for the compiled walk, in ``kernels.walk_template``'s order:
-        tolerance, iterations, reach, backtracks, contraction, and 1 where Newton stops by
-        ``near_enough`` (0 where not); by default (None) those of the walk's steps, read
-        when called (``bench_continuation`` switches _ESTIMATED off)."""
-        contraction = _CONTRACTION if contraction is None else contraction
-        estimated = _ESTIMATED if estimated is None else estimated
-        return [NEWTON_TOL, NEWTON_ITERATIONS, _NEWTON_REACH, _BACKTRACKS, contraction,
-                float(estimated)]
 
     def physical(self, z: np.ndarray) -> tuple[float, float, float]:
         """(y [m], v [m/s], the parameter: f_e [Hz]) of a scaled point."""
@@ -207,23 +176,24 @@ class PeriodMap:
         return residual, jacobian, exact[0, :, :2].copy()
 
     def correct_step(self, z: np.ndarray, row: np.ndarray, target: float) -> Point | None:
-        """``correct`` with the walk's contraction test (_CONTRACTION) and its stop by the
-        estimated distance to the root (``near_enough``): an arclength step of the walk,
-        which a failure shortens."""
-        return self.correct(z, row, target, _CONTRACTION, estimated=_ESTIMATED)
+        """``correct`` with the walk's contraction test (``WalkOptions.contraction``) and,
+        where ``WalkOptions.stop_by_estimate``, its stop by the estimated distance to the
+        root (``near_enough``): an arclength step of the walk, which a failure shortens."""
+        return self.correct(z, row, target, self.options.contraction,
+                            estimated=self.options.stop_by_estimate)
 
     def correct(self, z: np.ndarray, row: np.ndarray, target: float,
                 contraction: float = np.inf, estimated: bool = False) -> Point | None:
         """Newton on R(z) = 0 with the one extra equation row . z = target (the
         arclength or a fixed f); None when it does not converge, or when a Newton step is
         more than ``contraction`` times the one before (the walk's steps pass
-        _CONTRACTION; by default no such test). It stops when a step is below
-        NEWTON_TOL, or, ``estimated``, when the steps to come are estimated to be
-        (``near_enough``).
+        ``WalkOptions.contraction``; by default no such test). It stops when a step is
+        below ``WalkOptions.newton_tol``, or, ``estimated``, when the steps to come are
+        estimated to be (``near_enough``).
 
         Through loss of contact the map is only piecewise smooth, and at a corner the
         Jacobian of one side points past the root on the other: a step that does not
-        reduce |F| is halved (a line search, up to _BACKTRACKS times), which makes
+        reduce |F| is halved (a line search, up to ``backtracks`` times), which makes
         Newton converge there too, linearly at first.
 
         With the compiled walk (not ``engine="python"``), the same Newton runs in its
@@ -233,6 +203,8 @@ class PeriodMap:
         """
         if self.walker is not None:
             return self._compiled_correct(z, row, target, contraction, estimated)
+        tol, reach, backtracks = (self.options.newton_tol, self.options.newton_reach,
+                                  self.options.backtracks)
         z = z.copy()
         bordered = np.empty((row.size, row.size))  # [dR/dz; row], any number of unknowns
         bordered[-1] = row
@@ -240,7 +212,7 @@ class PeriodMap:
         with np.errstate(all="ignore"):
             r, jacobian, monodromy = self.residual(z)
             full = np.append(r, row @ z - target)
-            for iteration in range(1, NEWTON_ITERATIONS + 1):
+            for iteration in range(1, self.options.newton_iterations + 1):
                 if not (np.isfinite(full).all() and np.isfinite(jacobian).all()):
                     return None
                 bordered[:-1] = jacobian
@@ -249,15 +221,15 @@ class PeriodMap:
                 except np.linalg.LinAlgError:
                     return None
                 largest = np.abs(step).max()
-                if largest < NEWTON_TOL:
+                if largest < tol:
                     return Point(z + step, jacobian, monodromy, iteration)
-                if not (largest < _NEWTON_REACH and largest <= contraction * before):
+                if not (largest < reach and largest <= contraction * before):
                     return None
-                if estimated and before < np.inf and near_enough(largest, before):
+                if estimated and before < np.inf and near_enough(largest, before, tol):
                     return Point(z + step, jacobian, monodromy, iteration + 1)
                 before = largest
                 norm = np.linalg.norm(full)
-                for _ in range(_BACKTRACKS):
+                for _ in range(backtracks):
                     trial = z + step
                     r, j_trial, m_trial = self.residual(trial)
                     f_trial = np.append(r, row @ trial - target)
@@ -274,10 +246,9 @@ class PeriodMap:
                           contraction: float, estimated: bool) -> Point | None:
         """``correct`` by the compiled walk's Newton (``kernels.walk_template.correct``)."""
         walker = self.walker
-        settings = np.zeros(walker._SETTINGS)
-        settings[[walker._TOL, walker._ITERATIONS, walker._REACH, walker._BACKTRACKS,
-                  walker._CONTRACTION, walker._ESTIMATED]] = self.newton_settings(
-            contraction, estimated)
+        # The corrector's numbers; the step control's are not read by ``correct``.
+        settings = self.options.numbers(np.nan, np.nan, np.nan, np.nan)._replace(
+            contraction=float(contraction), stop_by_estimate=float(estimated))
         z_out, jacobian, monodromy = np.empty(3), np.empty((2, 3)), np.empty((2, 2))
         iterations = walker.correct(
             np.array(z, dtype=float), np.array(row, dtype=float), float(target), self.scale,
@@ -291,8 +262,8 @@ class ForceMap(PeriodMap):
     unknowns are z = (y / y0, v / (omega0 y0), P_a / Q)."""
 
     def __init__(self, model: ContactModel, f_hz: float, steps: int, period: int,
-                 engine: str = "auto") -> None:
-        super().__init__(model, 0.0, steps, period, engine)
+                 engine: str = "auto", options: WalkOptions | None = None) -> None:
+        super().__init__(model, 0.0, steps, period, engine, options)
         self.scale[2] = model.parameters.Q_n
         self.force_is_parameter, self.other = True, float(f_hz)
 

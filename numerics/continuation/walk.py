@@ -8,18 +8,20 @@ of the simulator's RK4 map at N fixed steps per period (``period_map``).
 - Predictor: a step ds along the unit tangent t of the branch in the scaled
   unknowns z = (y / y0, v / (omega0 y0), f / f_n0).
 - Corrector: Newton on the bordered system [R(z) = 0, t . (z - z_k) = ds], given up
-  when an update is not at most half the one before (``period_map._CONTRACTION``),
+  when an update is not at most half the one before (``WalkOptions.contraction``),
   stopped when the updates still to come add up to less than its tolerance
   (``period_map.near_enough``).
 - Step control: ds grows by 1.5 after an easy step (at most 3 iterations), up to
   ds_max, or on a large orbit where the branch runs straight, up to ds_max times the
   orbit's size (``largest_step``); it shrinks by 2 on a failed Newton (by 4 below a
-  corner's step, ``_CORNER_SHRINK``), and by the share of ``max_angle`` over the turn
+  corner's step, ``WalkOptions.corner_shrink``), and by the share of ``max_angle`` over
+  the turn
   (by 2 at least) whenever consecutive tangents differ by more than ``max_angle``, so
   that no fold is stepped across unseen; over a step shorter than a corner's
   (``corner_step``: longer on a large orbit, at most ds_max) such a turn is taken for a
   corner of the map and the step accepted. A step below
-  ``_STALL_DS`` hands over to a step in f alone first (a corner where the branch turns
+  ``WalkOptions.stall_ds`` hands over to a step in f alone first (a corner where the
+  branch turns
   back), and only then shrinks on.
 - Stability: the Floquet multipliers, eigenvalues of the monodromy matrix; an orbit
   is stable when both lie inside the unit circle. As det M < 1 (the contact's
@@ -54,6 +56,7 @@ from ..kernels.lanes import Lanes
 from ..simulation.rk4 import check_model
 from ..steady.shooting import MAX_STEPS, PERIODS_TRIED, lane_steps, steady_states
 from ..steady.sweeps import ENGINES
+from .options import WalkOptions
 from .period_map import PeriodMap, Point, floquet_multipliers
 
 __all__ = ["Bifurcation", "Continuation", "ContinuedBranch", "continue_orbits", "DEFAULTS"]
@@ -69,7 +72,7 @@ MAX_WALK_POINTS = 250_000
 #: step; at 0.15 Q, N = 128 shows zigzags of f by 0.27 Hz on the bouncing middle branch
 #: (taken for folds) and stops at 398 Hz, N = 512 none and reaches 355 Hz (352.55 Hz with
 #: the contraction test and the steps past ds_max, 354.00 Hz with ``corner_step`` and
-#: _CORNER_SHRINK: ``corner_step`` alone gave 352.33 Hz; 2026-11-24, both engines).
+#: corner_shrink: ``corner_step`` alone gave 352.33 Hz; 2026-11-24, both engines).
 _AUTO_MIN_STEPS = 512
 #: "auto" doubles N, up to this, while a walk stops inside the band at a corner: at 0.15 Q
 #: the walk up stops near the bouncing fold (354.00 Hz) at 512 steps, and the branch passes
@@ -77,100 +80,6 @@ _AUTO_MIN_STEPS = 512
 _AUTO_MAX_STEPS = 2048
 #: How the message of a walk that stopped at a corner begins.
 _STUCK = "step below"
-DS_START = 1e-3  # the first step, in z
-DS_MIN = 1e-9  # below it the continuation gives up
-#: A step that shrinks below this (in z) has stalled at a corner of the map where the
-#: branch turns back (the arclength's plane beyond the corner meets no branch, and the
-#: steps creep towards the corner, ever shorter): a step in f alone is tried then, and
-#: only if none is taken does the step go on shrinking to DS_MIN. At 0.15 Q, N = 1024,
-#: the walk spent some 3,600 of its 12,900 evaluations of R within 350-370 Hz on steps
-#: below 1e-5 (2026-11-23, Python walk).
-_STALL_DS = 1e-5
-#: Below _STALL_DS a step whose tangent turns back (t_new . t < 0) is a failed step: the
-#: walk has crept into a corner where the branch folds back onto itself, and walking on
-#: would retrace it. At 0.17 Q, N = 2048, such a step of 3.3e-9 turned the compiled walk
-#: back along its own last 67 points (2026-11-23, with the larger steps of
-#: ``largest_step``); every turn back at 0.15 Q is over a longer step: 35 within
-#: 352.38-361.38 Hz on the walk up at N = 1024, each a move of 5.9e-4 or more in z (the 9
-#: of them that are arclength steps, 8.4e-4 or more; 2026-11-24, Python walk, after
-#: ``corner_step``; 47 over 1.3e-4 or more on 2026-11-23).
-GROW, SHRINK = 1.5, 0.5
-#: A step whose tangent turns by more than max_angle is shortened by this share of
-#: max_angle over the turn (the turn grows with the step), by SHRINK at least. At 0.17 Q,
-#: N = 2048, the bouncing fold is then located; with SHRINK alone it was only marked
-#: (2026-11-23, before the larger steps on straight orbits: the walks then ended 5.8 Hz
-#: apart, 263.8 and 269.6 Hz, against 7.5 Hz with SHRINK alone). With ``corner_step``
-#: and _CORNER_SHRINK (2026-11-24) both engines end at 263.66 and 269.60 Hz, and the
-#: bouncing fold is only marked (263.29 Hz, +-0.15 Hz): see _CORNER_CEILING.
-_TURN_SHARE = 0.9
-#: A tangent that turns by more than max_angle over a step this short (in z) turns at a
-#: corner of the branch, not at a fold (the map is only piecewise smooth through loss
-#: of contact): the step is accepted. A fold within it is still seen (f turns). At
-#: 0.15 Q, N = 1024, 1e-4 took 6528 points (3298 steps below 5e-3, in the bouncing
-#: fold's zigzag), 1e-3 takes 4896 (2026-11-23, when every fold met was located and kept).
-#: On a large orbit the corner's step is longer, as its largest step is
-#: (``corner_step``).
-_CORNER_DS = 1e-3
-#: ``corner_step``: _CORNER_DS times the orbit's size |(y, v)| in z over _SIZE_REFERENCE,
-#: between 1 and this (as ``largest_step`` grows the largest step). The map's corners
-#: turn the tangent by as much however short the step, and they crowd on bouncing
-#: orbits: at 0.15 Q, N = 1024, some 70 % of the walk's evaluations of R were spent
-#: within 350-370 Hz, where 95 % of the points are orbits of |(y, v)| 26 to 28, and 26 %
-#: in the runs of ever shorter steps that creep towards a corner where the branch turns
-#: back (2026-11-24, Python walk, measured once by hand). With the corner's step grown
-#: there, measured by hand (2026-11-24, Python walk, DS_START varied by 1e-9 relative
-#: ten times, evaluations of R at N = 512 weighted by a half): at 0.15 Q 8,609 against
-#: 11,364 (mean), every walk through the bouncing fold at N = 1024 with the same two
-#: folds; at 0.13 Q 2,109 against 2,816, the same two folds (the bouncing one 0.03 Hz
-#: away, within its 0.15 Hz). The same day, by hand: the sweeps' states lie as near the
-#: branch as before (0.153 % and 0.123 % at 0.15 Q; 0.336 % at 0.05 Q, where no orbit is
-#: that large); a flat _CORNER_DS of 3e-3 instead ended every such walk at N = 1024 at a
-#: corner (walked again at 2048), and one of 6e-3 left the sweep's states at 0.05 Q
-#: 0.526 % off the branch.
-#: The ceiling acts only past |(y, v)| = 40 in z: at 0.13 and 0.15 Q the orbits reach 28 at
-#: most (scale 14): 15, 20 and 40 walk them bit for bit alike (both engines at 0.15 Q, the
-#: Python walk at 0.13 Q); 10 does not (1995 points at 0.15 Q, against 1971, the same
-#: folds). At 0.17 Q (orbits up to 53), "auto", measured by hand (2026-11-24, one walk
-#: each; points of the compiled walk, evaluations of R of the Python walk): 10 locates
-#: the bouncing fold (263.268 Hz; the walks end at 263.91 and 269.60 Hz; 2073 points;
-#: 12,891 evaluations), 15 only marks it (263.272 Hz +-0.149; 11,561 evaluations), 20
-#: too (263.292 Hz; 263.66 and 269.60 Hz; 1962; 11,777) and 40 too (263.291 Hz; 263.66
-#: and 271.25 Hz, 269.60 Hz in Python; 1764; 11,562). It was located (263.27 Hz) before
-#: ``corner_step``. 20 is kept: 10 would change the walks at 0.15 Q and take
-#: 9 % more evaluations at 0.17 Q for a fold located there, not moved (0.024 Hz apart,
-#: within the marked one's 0.149 Hz).
-_CORNER_CEILING = 20.0
-#: A step that fails below the corner's step (``corner_step``) shrinks by this, not by
-#: SHRINK: it has met a corner, where the steps creep towards the stall's ds (and the
-#: step in f alone that passes) however they shrink. Measured by hand (2026-11-24, as
-#: for _CORNER_CEILING): at 0.15 Q 7,805 evaluations of R against 8,609 with SHRINK,
-#: every walk through the bouncing fold at N = 1024 with the same two folds, the sweeps'
-#: states as near the branch (0.153 %, 0.122 %; 0.336 % at 0.05 Q); at 0.13 Q 1,992
-#: against 2,109, the same two folds. Other factors, measured the same way (2026-11-24,
-#: by hand): 1/8 took 7,912 at 0.15 Q and 2,024 at 0.13 Q, 1/3 took 7,611 and 2,037
-#: (against 7,805 and 1,992 with 1/4), every walk with the same folds: neither is better
-#: at both.
-_CORNER_SHRINK = 0.25
-#: Where the branch runs straight (its tangent turned by at most _STRAIGHT rad over the
-#: step), the next step may grow past ds_max in proportion to the orbit's size |(y, v)| in
-#: z over _SIZE_REFERENCE, up to _SIZE_CEILING ds_max (``largest_step``). An orbit in
-#: contact has |(y, v)| near 1 (the static deflection, y0); one twice as large bounces
-#: (loss of contact). Measured at 0.15 Q, "auto", the Python walk (2026-11-23, with
-#: ``near_enough``): on the arcs of bouncing orbits (|(y, v)| 5 to 28) the tangent turns
-#: by 0.002 rad a step of 0.02 (median; the map's corners make it jitter up to 0.02),
-#: and a step of 0.02 moves the orbit by 0.07 % of its size or less. Evaluations of R
-#: (those at N = 1024 counted twice) 33,230 -> 22,641, points 4412 -> 2500, App between
-#: the points as near the 5 Hz sweeps' states (0.153 % and 0.122 % at most, up and down,
-#: against 0.153 % and 0.123 %); at 0.1 and 0.05 Q the same worst App as before (0.21 %
-#: and 0.34 %). By size alone, steps grew towards the primary fold (0.39 % at 1330 Hz);
-#: by the angle alone, on small orbits (0.25 % at 1560 Hz); with _SIZE_REFERENCE = 1,
-#: a 5 % longer step at 0.1 Q stepped over the 1/3 superharmonic's small peak (0.71 % at
-#: 490 Hz). _STRAIGHT = 0.01 took 13 % more evaluations, App the same; _SIZE_CEILING = 40,
-#: the same walk at 0.15 Q (it matters past |(y, v)| = 40: 53 at 0.17 Q).
-_STRAIGHT = 0.03
-_SIZE_REFERENCE = 2.0
-_SIZE_CEILING = 20.0
-EASY_ITERATIONS = 3  # Newton converging within this many iterations grows the step
 #: Brent's method locates a bifurcation to this arclength in z: f to about 1e-5 Hz on
 #: the paper's model (f_n0 = 1485 Hz), App to 1e-9 y0.
 LOCATE_TOL = 1e-8
@@ -345,6 +254,7 @@ def continue_orbits(
     max_points: int = DEFAULTS["max_points"],
     quiet: bool = True,
     engine: str = "auto",
+    options: WalkOptions | None = None,
 ) -> Continuation:
     """Continue the p-periodic orbit reached at ``fmin_hz`` from rest up to ``fmax_hz``.
 
@@ -388,6 +298,9 @@ def continue_orbits(
         Python (the reference). Both walk the same branch, to Newton's tolerance, but
         where the map's corners crowd (loss of contact) a round-off can end a walk at
         another corner.
+    options : WalkOptions, optional
+        The walk's tuning: its step control and corrector (the tested defaults by
+        default).
 
     Returns
     -------
@@ -406,6 +319,7 @@ def continue_orbits(
         raise ValueError(f"`fmax_hz` must be above `fmin_hz`, got {fmin_hz!r} and {fmax_hz!r}.")
     ds_max, max_angle, max_points = check_walk(period, ds_max, max_angle, max_points)
     check_choice("engine", engine, ENGINES)
+    options = check_options(options)
     numbers = eq26_numbers(model.parameters)
     check_band("fmin_hz", fmin_hz, model.parameters)
     check_band("fmax_hz", fmax_hz, model.parameters)
@@ -413,7 +327,8 @@ def continue_orbits(
     start = time.perf_counter()
     p_a = pa_frac * model.parameters.Q_n
     shoot, branches, bifurcations = walk_finest(
-        lambda n: PeriodMap(model, p_a, n, period, engine), steps, steps_per_period == "auto",
+        lambda n: PeriodMap(model, p_a, n, period, engine, options), steps,
+        steps_per_period == "auto",
         model, fmin_hz, fmax_hz, ds_max, max_angle, max_points, quiet)
     settings = {"fmin_hz": fmin_hz, "fmax_hz": fmax_hz,
                 **walk_settings(shoot, ds_max, max_angle, max_points)}
@@ -424,10 +339,21 @@ def continue_orbits(
 
 def walk_settings(shoot: PeriodMap, ds_max, max_angle, max_points) -> dict:
     """The settings of a walk on ``shoot`` for a result: the N it took, the step control
-    and the engine that ran."""
+    (with the walk's ``WalkOptions``) and the engine that ran."""
     return {"steps_per_period": shoot.steps, "ds_max": ds_max, "max_angle": max_angle,
             "max_points": max_points,
-            "engine": "python" if shoot.walker is None else "compiled"}
+            "engine": "python" if shoot.walker is None else "compiled",
+            "walk_options": shoot.options.as_dict()}
+
+
+def check_options(options: WalkOptions | None) -> WalkOptions:
+    """``options``, the defaults for None; a ValueError naming it if it is not a
+    ``WalkOptions``."""
+    if options is None:
+        return WalkOptions()
+    if not isinstance(options, WalkOptions):
+        raise ValueError(f"`options` must be a WalkOptions, got {options!r}.")
+    return options
 
 
 def check_band(name: str, f_hz: float, parameters) -> None:
@@ -462,33 +388,35 @@ def branch_steps(steps_per_period, f_hz: float, numbers) -> int:
                      why="the bound of the steps of every command")
 
 
-def largest_step(z: np.ndarray, angle: float, ds_max: float) -> float:
+def largest_step(z: np.ndarray, angle: float, ds_max: float, options: WalkOptions) -> float:
     """The largest next step after a point ``z`` whose step turned the tangent by
-    ``angle``: ds_max, or, where the branch runs straight (``_STRAIGHT``), ds_max times
-    the orbit's size |(y, v)| in z over ``_SIZE_REFERENCE`` (twice the static
-    deflection) where that is above 1, up to ``_SIZE_CEILING`` ds_max: a step moves a
+    ``angle``: ds_max, or, where the branch runs straight (``options.straight``), ds_max
+    times the orbit's size |(y, v)| in z over ``options.size_reference`` (twice the
+    static deflection) where that is above 1, up to ``options.size_ceiling`` ds_max: a
+    step moves a
     large bouncing orbit by as little, relative to its size, as ds_max moves one in
     contact."""
-    if angle > _STRAIGHT:
+    if angle > options.straight:
         return ds_max
-    return ds_max * orbit_scale(z, _SIZE_CEILING)
+    return ds_max * orbit_scale(z, options.size_ceiling, options)
 
 
-def corner_step(z: np.ndarray, ds_max: float) -> float:
+def corner_step(z: np.ndarray, ds_max: float, options: WalkOptions) -> float:
     """The step from a point ``z`` below which a tangent that turns by more than
-    max_angle is taken to turn at a corner of the map: ``_CORNER_DS``, times the orbit's
-    size over ``_SIZE_REFERENCE`` on a large orbit, up to ``_CORNER_CEILING`` times, and
+    max_angle is taken to turn at a corner of the map: ``options.corner_ds``, times the
+    orbit's size over ``options.size_reference`` on a large orbit, up to
+    ``options.corner_ceiling`` times, and
     at most ``ds_max`` (the user's largest step: a turn over a step of ds_max or more is
     never a corner's). At the defaults the cap is 20 x 1e-3 = ds_max: it changes no
     walk."""
-    return min(_CORNER_DS * orbit_scale(z, _CORNER_CEILING), ds_max)
+    return min(options.corner_ds * orbit_scale(z, options.corner_ceiling, options), ds_max)
 
 
-def orbit_scale(z: np.ndarray, ceiling: float) -> float:
-    """The orbit's size |(y, v)| in z over ``_SIZE_REFERENCE``, clipped to [1,
+def orbit_scale(z: np.ndarray, ceiling: float, options: WalkOptions) -> float:
+    """The orbit's size |(y, v)| in z over ``options.size_reference``, clipped to [1,
     ``ceiling``]: how much longer a step may be on it than on an orbit in contact (at
-    least 1 only while ``ceiling`` is, as _SIZE_CEILING and _CORNER_CEILING are)."""
-    size = math.sqrt(z[0] * z[0] + z[1] * z[1]) / _SIZE_REFERENCE
+    least 1 only while ``ceiling`` is, as the options' ceilings are)."""
+    size = math.sqrt(z[0] * z[0] + z[1] * z[1]) / options.size_reference
     return min(max(1.0, size), ceiling)
 
 
@@ -665,12 +593,9 @@ class Walk:
         # Folds met and not yet located: (index of the step's first point, the branch's
         # orientation then); ``_locate_folds`` settles them when the walk ends.
         self.pending_folds: list[tuple[int, float]] = []
-        # The walk's numbers for the compiled steps, in kernels.walk_template's order.
-        self.settings = np.array([DS_MIN, ds_max, max_angle, GROW, SHRINK, _CORNER_DS,
-                                  EASY_ITERATIONS, _STALL_DS, *shoot.newton_settings(),
-                                  self.f_lo, self.f_hi, _TURN_SHARE, _STRAIGHT,
-                                  _SIZE_REFERENCE, _SIZE_CEILING, _CORNER_CEILING,
-                                  _CORNER_SHRINK])
+        # The walk's tuning, and its numbers as the compiled steps read them.
+        self.options = shoot.options
+        self.settings = self.options.numbers(ds_max, max_angle, self.f_lo, self.f_hi)
 
     def end(self, status: Status, message: str) -> None:
         self.status, self.message = status, message
@@ -684,7 +609,7 @@ class Walk:
         self.orientation = first.orientation(inward) or 1.0
         t = first.tangent(inward, self.orientation)
         self._keep(first, t)
-        ds = DS_START
+        ds = self.options.ds_start
         while True:
             if len(self.points) >= self.max_points:
                 self.end(Status.FAILED, f"gave up after {self.max_points} points (max_points)")
@@ -692,14 +617,14 @@ class Walk:
             step, ds = self._arclength_steps(ds)
             if step is None:
                 step = self._natural_step()
-                if step is None and ds >= DS_MIN:  # stalled: on, shorter, to DS_MIN,
+                if step is None and ds >= self.options.ds_min:  # stalled: on, to ds_min,
                     step, ds = self._arclength_steps(ds)
                     if step is None:  # and again in f alone from where that ended
                         step = self._natural_step()
             if step is _PLAIN:  # plain points kept, none needing Python: walk on
                 continue
             if step is None:
-                self.end(Status.FAILED, f"{_STUCK} {DS_MIN:g} at "
+                self.end(Status.FAILED, f"{_STUCK} {self.options.ds_min:g} at "
                          f"{self.shoot.label(self.points[-1].z)}: Newton does not converge there")
                 break
             point, t, ds = step
@@ -755,7 +680,7 @@ class Walk:
             t = t if t @ chord > 0 else -t  # on along the chord: the branch's new orientation
             self.orientation = point.orientation(t) or 1.0
             self.resume = None
-            return point, t, DS_START
+            return point, t, self.options.ds_start
         return None
 
     def _arclength_steps(self, ds: float):
@@ -799,30 +724,26 @@ class Walk:
 
     def _step(self, ds: float):
         """One accepted step from the last point: ((point, tangent, next ds), next ds), or
-        (None, the ds it failed at: below _STALL_DS if it began above, else below
-        DS_MIN)."""
-        z, t = self.points[-1].z, self.tangents[-1]
-        least = _STALL_DS if ds >= _STALL_DS else DS_MIN
-        corner = corner_step(z, self.ds_max)
+        (None, the ds it failed at: below ``stall_ds`` if it began above, else below
+        ``ds_min``)."""
+        z, t, options = self.points[-1].z, self.tangents[-1], self.options
+        least = options.stall_ds if ds >= options.stall_ds else options.ds_min
+        corner = corner_step(z, self.ds_max, options)
         while ds >= least:
             point = self.shoot.correct_step(z + ds * t, t, t @ z + ds)
             t_new = None if point is None else point.tangent(t, self.orientation)
             # No tangent, or one turned back below the stall's ds: a failed step.
             if (point is not None and np.isfinite(t_new).all()
-                    and not (ds < _STALL_DS and t_new @ t < 0.0)):
+                    and not (ds < options.stall_ds and t_new @ t < 0.0)):
                 angle = np.arccos(np.clip(t_new @ t, -1.0, 1.0))
                 if angle <= self.max_angle:
                     self.resume = None
-                    # An easy step grows the next; so does a step shorter than _CORNER_DS
-                    # (Newton may stay slow near a corner however short the step). Flat,
-                    # not the corner's step: with ``ds < corner`` the Python walk took
-                    # 8,036 evaluations of R at 0.15 Q (against 7,805) and reported two
-                    # more folds, marked (354.38, 354.20 Hz), and 2,073 at 0.13 Q (against
-                    # 1,992, the bouncing fold 0.03 Hz away; measured by hand as for
-                    # _CORNER_CEILING, 2026-11-24).
-                    grow = point.iterations <= EASY_ITERATIONS or ds < _CORNER_DS
-                    ds = min(ds * GROW if grow else ds,
-                             largest_step(point.z, angle, self.ds_max))
+                    # An easy step grows the next; so does a step shorter than corner_ds
+                    # (Newton may stay slow near a corner however short the step): flat,
+                    # not the corner's step, which took more evaluations (tuning log).
+                    grow = point.iterations <= options.easy_iterations or ds < options.corner_ds
+                    ds = min(ds * options.grow if grow else ds,
+                             largest_step(point.z, angle, self.ds_max, options))
                     return (point, t_new, ds), ds
                 if ds < corner:
                     # The tangent turns as much over a step this short: a corner of the
@@ -832,9 +753,9 @@ class Walk:
                     return (point, t_new, resume), resume
                 if self.resume is None:  # the step to come back to after a corner
                     self.resume = ds
-                ds *= min(SHRINK, _TURN_SHARE * self.max_angle / angle)
+                ds *= min(options.shrink, options.turn_share * self.max_angle / angle)
                 continue
-            ds *= _CORNER_SHRINK if ds < corner else SHRINK
+            ds *= options.corner_shrink if ds < corner else options.shrink
         return None, ds
 
     def _bifurcations(self, point: Point, t: np.ndarray,
@@ -871,7 +792,7 @@ class Walk:
 
     def _locate_folds(self) -> None:
         """The folds left by ``_bifurcations``: Brent's method locates those within
-        ``_NEAR_TURN`` points of a turn of f that f follows by ``_FOLD_PROMINENCE``
+        ``WalkOptions.near_turn`` points of a turn of f that f follows by ``_FOLD_PROMINENCE``
         (the folds ``_significant_folds`` reports) and keeps them as points of the
         branch; the others (turns of a zigzag over the map's corners, dropped there)
         are only marked at the step's end, as one Brent's method cannot locate.
@@ -891,7 +812,7 @@ class Walk:
         # From the last: a point kept at one index leaves the indices below it as they are.
         for first, orientation in sorted(self.pending_folds, reverse=True):
             base, end = self.points[first], self.points[first + 1]
-            near = turns.size and np.abs(turns - (first + 1)).min() <= _NEAR_TURN
+            near = turns.size and np.abs(turns - (first + 1)).min() <= self.options.near_turn
             located = (self._locate(base, self.tangents[first], end, _fold_test, orientation)
                        if near else None)
             if located is None:
@@ -1038,9 +959,6 @@ def _unstable_count(point: Point) -> int:
 #: f_n0 (0.15 Hz on the paper's model) before it turns again: the fixed-step map is only
 #: piecewise smooth through loss of contact, and at its corners f zigzags by some 1e-3 Hz.
 _FOLD_PROMINENCE = 1e-4
-#: A fold met within this many points of such a turn is located (``_significant_folds``
-#: takes the fold marked within 2 points of a turn; one more for the point kept there).
-_NEAR_TURN = 3
 
 
 def _fold_test(point: Point, t: np.ndarray) -> float:

@@ -21,12 +21,15 @@ import numpy as np
 from perturb import ContactModel
 from perturb.cache import cache_key, load_generated, usable_cache_dir
 
+from ..continuation.options import WalkOptions
 from .codegen import KERNEL_SOURCES, compiled_kernels
 from .lanes import drive_table
 
 __all__ = ["compiled_walk"]
 
 _TEMPLATE = Path(__file__).with_name("walk_template.py")
+#: The record of the walk's numbers that the compiled walk reads (``WalkNumbers``).
+_OPTIONS = Path(__file__).parents[1] / "continuation" / "options.py"
 _LOADED: dict[tuple, ModuleType] = {}
 _LOCK = threading.Lock()
 
@@ -37,7 +40,7 @@ def compiled_walk(model: ContactModel) -> ModuleType:
     with _LOCK:
         if memo not in _LOADED:
             kernels = compiled_kernels(model)
-            key = cache_key(memo, (*KERNEL_SOURCES, _TEMPLATE, Path(__file__)))
+            key = cache_key(memo, (*KERNEL_SOURCES, _TEMPLATE, Path(__file__), _OPTIONS))
             _LOADED[memo] = load_generated(usable_cache_dir() / f"walk_{key}.py",
                                            f"_contact_walk_{key}", lambda: _source(kernels),
                                            _smoke)
@@ -55,8 +58,9 @@ def _smoke(module: ModuleType) -> None:
     of the real calls: numba loads (or compiles) the machine code here, so that a broken
     cache file shows now and is rebuilt."""
     drive = drive_table(4)
-    settings = np.zeros(module._SETTINGS)  # no Newton iteration, least ds 1e-3: one try
-    settings[module._DS_MIN] = settings[module._STALL] = 1e-3
+    # No Newton iteration, least ds 1e-3: one try.
+    settings = WalkOptions().numbers(0.0, 0.0, 0.0, 0.0)._replace(
+        ds_min=1e-3, stall_ds=1e-3, newton_iterations=0.0)
     module.correct(np.ones(3), np.array([0.0, 0.0, 1.0]), 1.0, np.ones(3), 4, 1, drive,
                    False, 1.0, settings, np.empty(3), np.empty((2, 3)), np.empty((2, 2)))
     rows = 1

@@ -11,8 +11,8 @@ It keeps the plain points and hands back to Python the first step that needs it:
 one where a fold or a period doubling may lie between the last point and the new
 one (located in Python by Brent's method), or that crosses the band's edge, or a
 step that failed at every ds (Python then tries a step in f alone). The
-numbers of the walk (tolerances, factors) come in ``settings``, from the Python
-modules that define them.
+numbers of the walk (tolerances, factors) come in ``settings``, a
+``continuation.options.WalkNumbers``: the fields of the walk's ``WalkOptions``.
 """
 
 import math
@@ -21,15 +21,6 @@ import numba
 import numpy as np
 
 # fmt: off
-# Indices into `settings`: the walk's numbers (filled by continuation.walk._Walk), then the
-# corrector's (PeriodMap.newton_settings), then the band's ends in z and the walk's
-# _TURN_SHARE, _STRAIGHT, _SIZE_REFERENCE, _SIZE_CEILING, _CORNER_CEILING and
-# _CORNER_SHRINK; _SETTINGS of them.
-_DS_MIN, _DS_MAX, _MAX_ANGLE, _GROW, _SHRINK, _CORNER_DS, _EASY, _STALL = 0, 1, 2, 3, 4, 5, 6, 7
-_TOL, _ITERATIONS, _REACH, _BACKTRACKS, _CONTRACTION, _ESTIMATED = 8, 9, 10, 11, 12, 13
-_F_LO, _F_HI, _TURN_SHARE, _STRAIGHT, _SIZE_REFERENCE, _SIZE_CEILING = 14, 15, 16, 17, 18, 19
-_CORNER_CEILING, _CORNER_SHRINK = 20, 21
-_SETTINGS = 22
 # What walk_steps returns: the step failed (ds below its least), a step for Python to
 # finish (at index `kept` of the outputs), or the outputs are full.
 WALK_FAILED, WALK_PENDING, WALK_FULL = 0, 1, 2
@@ -105,26 +96,26 @@ def near_enough(step, before, tol):
 @numba.njit(cache=True, error_model="numpy")
 def largest_step(z, angle, settings):
     """``continuation.walk.largest_step``: ds_max, or where the branch runs straight, ds_max
-    times the orbit's size |(y, v)| in z over _SIZE_REFERENCE, between 1 and
-    _SIZE_CEILING."""
-    if angle > settings[_STRAIGHT]:
-        return settings[_DS_MAX]
-    return settings[_DS_MAX] * orbit_scale(z, settings[_SIZE_CEILING], settings)
+    times the orbit's size |(y, v)| in z over size_reference, between 1 and
+    size_ceiling."""
+    if angle > settings.straight:
+        return settings.ds_max
+    return settings.ds_max * orbit_scale(z, settings.size_ceiling, settings)
 
 
 @numba.njit(cache=True, error_model="numpy")
 def corner_step(z, settings):
-    """``continuation.walk.corner_step``: _CORNER_DS times the orbit's size over
-    _SIZE_REFERENCE, between 1 and _CORNER_CEILING times, and at most _DS_MAX."""
-    return min(settings[_CORNER_DS] * orbit_scale(z, settings[_CORNER_CEILING], settings),
-               settings[_DS_MAX])
+    """``continuation.walk.corner_step``: corner_ds times the orbit's size over
+    size_reference, between 1 and corner_ceiling times, and at most ds_max."""
+    return min(settings.corner_ds * orbit_scale(z, settings.corner_ceiling, settings),
+               settings.ds_max)
 
 
 @numba.njit(cache=True, error_model="numpy")
 def orbit_scale(z, ceiling, settings):
     """``continuation.walk.orbit_scale``: the orbit's size |(y, v)| in z over
-    _SIZE_REFERENCE, clipped to [1, ``ceiling``] (at least 1 only while ``ceiling`` is)."""
-    size = math.sqrt(z[0] * z[0] + z[1] * z[1]) / settings[_SIZE_REFERENCE]
+    size_reference, clipped to [1, ``ceiling``] (at least 1 only while ``ceiling`` is)."""
+    size = math.sqrt(z[0] * z[0] + z[1] * z[1]) / settings.size_reference
     return min(max(1.0, size), ceiling)
 
 
@@ -153,26 +144,26 @@ def correct(z0, row, target, scale, steps, period, drive, force_is_parameter, ot
                                   jac, mono)
     full[2] = row @ z - target
     before = np.inf  # the largest component of the step before
-    for iteration in range(1, int(settings[_ITERATIONS]) + 1):
+    for iteration in range(1, int(settings.newton_iterations) + 1):
         if not (np.isfinite(full).all() and np.isfinite(jac).all()):
             return 0
         copy_rows(bordered, jac)
         if not solve3(bordered, -full, step):
             return 0
         largest = np.abs(step).max()
-        if largest < settings[_TOL]:
+        if largest < settings.newton_tol:
             store_root(z, step, jac, mono, z_out, jac_out, mono_out)
             return iteration
-        if not (largest < settings[_REACH] and largest <= settings[_CONTRACTION] * before):
+        if not (largest < settings.newton_reach and largest <= settings.contraction * before):
             return 0
-        if (settings[_ESTIMATED] > 0.0 and before < np.inf
-                and near_enough(largest, before, settings[_TOL])):
+        if (settings.stop_by_estimate > 0.0 and before < np.inf
+                and near_enough(largest, before, settings.newton_tol)):
             store_root(z, step, jac, mono, z_out, jac_out, mono_out)
             return iteration + 1
         before = largest
         norm = math.sqrt(full @ full)
         reduced = False
-        for _ in range(int(settings[_BACKTRACKS])):
+        for _ in range(int(settings.backtracks)):
             for i in range(3):
                 trial[i] = z[i] + step[i]
             f_trial[0], f_trial[1] = period_map(trial, scale, steps, period, drive,
@@ -257,7 +248,7 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
         accepted = False
         # A step that began above the stall's ds hands back below it (Python tries a
         # step in f alone); one that began below it shrinks to the least ds.
-        least = settings[_STALL] if ds >= settings[_STALL] else settings[_DS_MIN]
+        least = settings.stall_ds if ds >= settings.stall_ds else settings.ds_min
         corner = corner_step(z, settings)  # below it a turn is a corner's
         while ds >= least:
             for i in range(3):
@@ -269,12 +260,12 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
                 tangent(jac_out[kept], t, orientation, t_new)
             # No tangent, or one turned back below the stall's ds: as a failed Newton.
             if (iterations > 0 and np.isfinite(t_new).all()
-                    and not (ds < settings[_STALL] and t_new @ t < 0.0)):
+                    and not (ds < settings.stall_ds and t_new @ t < 0.0)):
                 angle = math.acos(min(max(t_new @ t, -1.0), 1.0))
-                if angle <= settings[_MAX_ANGLE]:
+                if angle <= settings.max_angle:
                     resume = -1.0
-                    grow = iterations <= settings[_EASY] or ds < settings[_CORNER_DS]
-                    next_ds = min(ds * settings[_GROW] if grow else ds,
+                    grow = iterations <= settings.easy_iterations or ds < settings.corner_ds
+                    next_ds = min(ds * settings.grow if grow else ds,
                                   largest_step(z_new, angle, settings))
                     accepted = True
                     break
@@ -287,9 +278,9 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
                 if resume < 0.0:
                     resume = ds
                 # The tangent turned too far: shorter by the share of the turn allowed.
-                ds *= min(settings[_SHRINK], settings[_TURN_SHARE] * settings[_MAX_ANGLE] / angle)
+                ds *= min(settings.shrink, settings.turn_share * settings.max_angle / angle)
                 continue
-            ds *= settings[_CORNER_SHRINK] if ds < corner else settings[_SHRINK]
+            ds *= settings.corner_shrink if ds < corner else settings.shrink
         state[1] = resume
         if not accepted:
             state[0] = ds
@@ -301,7 +292,7 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
         fold = (t[2] * t_new[2] < 0.0
                 and unstable_count(mono) != unstable_count(mono_out[kept]))
         doubling = doubling_test(mono) * doubling_test(mono_out[kept]) < 0.0
-        edge = z_new[2] >= settings[_F_HI] or z_new[2] <= settings[_F_LO]
+        edge = z_new[2] >= settings.f_hi or z_new[2] <= settings.f_lo
         if fold or doubling or edge:
             return WALK_PENDING, kept
         copy_into(z, z_new)  # noqa: F821

@@ -326,6 +326,8 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "engine": ("how a walk ran: 'compiled' (whole in machine code) or 'python' (the "
                "reference, step by step); asked for as 'auto', 'compiled' or 'python'", "",
                ""),
+    "walk_options": ("the tuning a walk ran with: the fields of `numerics.WalkOptions` "
+                     "(step control and corrector), each documented there", "", ""),
     "switched_at_hz": ("the period doublings a period-2p branch was switched onto at "
                        "(branch switching)", "Hz", ""),
     "continued_in": ("the parameter a continuation scene follows its orbits in: "

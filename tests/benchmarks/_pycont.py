@@ -36,9 +36,13 @@ from unittest import mock
 
 import numpy as np
 
-from numerics.continuation.period_map import NEWTON_ITERATIONS, NEWTON_TOL, PeriodMap, Point
-from numerics.continuation.walk import DEFAULTS, DS_MIN, DS_START, first_point
+from numerics.continuation import WalkOptions
+from numerics.continuation.period_map import PeriodMap, Point
+from numerics.continuation.walk import DEFAULTS, first_point
 from perturb import ContactModel
+
+#: The walk's tuning, whose numbers the packages are given where they have the same.
+_WALK = WalkOptions()
 
 __all__ = ["INSTALL", "contique_walks", "installed_version", "period_map", "pycont_walks",
            "residual_calls", "residual_norms"]
@@ -143,17 +147,17 @@ def pycont_settings(shoot: PeriodMap, fmin_hz: float, fmax_hz: float, direction:
     as ``continue_orbits``'."""
     f_n0 = shoot.scale[2]
     return {
-        "ds_min": DS_MIN,  # continue_orbits gives up below the same step
+        "ds_min": _WALK.ds_min,  # continue_orbits gives up below the same step
         "ds_max": DEFAULTS["ds_max"],
-        "ds_0": DS_START,
+        "ds_0": _WALK.ds_start,
         "n_steps": DEFAULTS["max_points"],
         "verbosity": "off",
         "solver_parameters": {
             # Newton-Krylov's aim, on |F| (continue_orbits' is on Newton's step). A step
             # is still accepted when |F| <= 10 max(tolerance, rdiff) = 6.6e-5: that is
             # how far from the branch its points may lie.
-            "tolerance": NEWTON_TOL,
-            "nk_maxiter": NEWTON_ITERATIONS,
+            "tolerance": _WALK.newton_tol,
+            "nk_maxiter": _WALK.newton_iterations,
             "rdiff": 6.6e-6,  # pycont-lite's default finite-difference step
             "param_min": fmin_hz / f_n0,
             "param_max": fmax_hz / f_n0,
@@ -269,14 +273,14 @@ def contique_settings(direction: int, step_max: float = DEFAULTS["ds_max"]) -> d
         "control0": (-1, direction),  # start with f as the control component
         "maxsteps": DEFAULTS["max_points"],
         "maxcycles": 4,  # contique's example's value
-        "maxiter": NEWTON_ITERATIONS,
-        "tol": NEWTON_TOL,  # on |R| here; continue_orbits' is on Newton's step
+        "maxiter": _WALK.newton_iterations,
+        "tol": _WALK.newton_tol,  # on |R| here; continue_orbits' is on Newton's step
         "overshoot": 1.0,
         "rebalance": True,
         "increase": 0.5,  # x (1 + 0.5 (8 - iterations) / 8)
         "decrease": 2.0,
         "high": 1.0,  # never above step_max
-        "low": DS_MIN / step_max,  # continue_orbits gives up below the same step
+        "low": _WALK.ds_min / step_max,  # continue_orbits gives up below the same step
         "minlastfailed": 1,
     }
 

@@ -4,14 +4,14 @@ Issue 13's goal: under 0.5 s once compiled. Baselines, measured in the same run:
 - the sweep up and down of the same band on a 5 Hz grid (311 points each way), which
   sees only the stable parts;
 - the walk's corrections as before the contraction test and the stall hand-over
-  (emulated through their module constants), in time and in the Python walk's
+  (emulated through their ``WalkOptions``), in time and in the Python walk's
   evaluations of R;
 - the walk as before Newton's stop by estimate and the steps past ds_max on large
-  orbits (emulated through ``period_map._ESTIMATED`` and
-  ``walk._SIZE_CEILING``), in time, evaluations of R and points;
+  orbits (emulated through ``WalkOptions.stop_by_estimate`` and
+  ``WalkOptions.size_ceiling``), in time, evaluations of R and points;
 - the walk as before the corner's step grew with the orbit's size and a step that failed
-  below it shrank faster (emulated through ``walk._CORNER_CEILING`` and
-  ``_CORNER_SHRINK``), in time, evaluations of R and points;
+  below it shrank faster (emulated through ``WalkOptions.corner_ceiling`` and
+  ``corner_shrink``), in time, evaluations of R and points;
 - the time numba takes to compile the walk (``numerics.kernels.walk_template``), the walk's cache
   bypassed, the kernels it calls already compiled (median of 3);
 - continuation packages from the package index, pycont-lite and contique, driving
@@ -25,11 +25,9 @@ Medians of interleaved repeats, warm (kernels compiled).
 
 from __future__ import annotations
 
-from unittest import mock
-
 import numpy as np
 
-from numerics import continue_orbits, sweep
+from numerics import WalkOptions, continue_orbits, sweep
 from numerics.kernels import compiled_kernels, drive_table
 from perturb import ContactModel, eq26_numbers
 
@@ -51,12 +49,30 @@ COMPILE_REPEATS = 3  # a build of the walk takes some 5 s
 PACKAGES = (("pycont-lite", "pycont_lite"), ("contique", "contique"))  # name, distribution
 
 
-def _continue():
-    return continue_orbits(PA_FRAC, *BAND)
+def _continue(options: WalkOptions | None = None):
+    return continue_orbits(PA_FRAC, *BAND, options=options)
 
 
-def _continue_in_python():
-    return continue_orbits(PA_FRAC, *BAND, engine="python")
+def _continue_in_python(options: WalkOptions | None = None):
+    return continue_orbits(PA_FRAC, *BAND, engine="python", options=options)
+
+
+#: The routes before, as options of today's walk.
+_DEFAULT = WalkOptions()
+#: Every fold the walk meets located by Brent's method, not only those near a turn of f
+#: that is reported.
+_EVERY_FOLD = WalkOptions(near_turn=10**9)
+#: The corrections before the contraction test and the stall hand-over: Newton spends its
+#: 12 iterations at a corner, and a step shrinks to ``ds_min`` before a step in f alone
+#: is tried. (The walk down at the coarser N that "auto" no longer makes is not emulated.)
+_PATIENT = WalkOptions(contraction=np.inf, stall_ds=_DEFAULT.ds_min)
+#: Before ``period_map.near_enough`` and ``walk.largest_step``: Newton's arclength steps
+#: stop by the exact test alone (one more evaluation of R), and no step grows past ds_max.
+_BEFORE_ESTIMATES = WalkOptions(stop_by_estimate=False, size_ceiling=1.0)
+#: Before ``walk.corner_step`` grew the corner's step with the orbit's size (corner_ds on
+#: every orbit) and a step that failed below it shrank by corner_shrink (halved, as any
+#: other).
+_CORNERS_BEFORE = WalkOptions(corner_ceiling=1.0, corner_shrink=_DEFAULT.shrink)
 
 
 def main() -> None:
@@ -68,21 +84,21 @@ def main() -> None:
         higher_is_better=False)
     row("continue_orbits [s] vs the goal of 0.5 s", continued, 0.5, "s",
         higher_is_better=False)
-    every = interleaved_medians(_continue, _continue_locating_every_fold, repeats=5)
+    every = interleaved_medians(_continue, lambda: _continue(_EVERY_FOLD), repeats=5)
     row("continue_orbits [s] vs locating every fold met (the route before, emulated) [s]", *every,
         "s", higher_is_better=False)
     # The Python walk's evaluations of R now, counted once for every row beside it.
     calls = residual_calls(_continue_in_python)
-    _route_rows(run, calls, "Newton's exact stop, no step past ds_max", _as_before_estimates)
-    _route_rows(run, calls, "corners as before (_CORNER_DS on every orbit, halved)",
-                _corners_as_before)
+    _route_rows(run, calls, "Newton's exact stop, no step past ds_max", _BEFORE_ESTIMATES)
+    _route_rows(run, calls, "corners as before (corner_ds on every orbit, halved)",
+                _CORNERS_BEFORE)
     row(f"compiling the walk (numba, the walk's cache bypassed, the kernels' warm; median of "
         f"{COMPILE_REPEATS}) [s]", _walk_compile_seconds(), unit="s")
-    patient = interleaved_medians(_continue, lambda: _patiently(_continue), repeats=5)
+    patient = interleaved_medians(_continue, lambda: _continue(_PATIENT), repeats=5)
     row("continue_orbits [s] vs no contraction test, no stall hand-over (emulated) [s]",
         *patient, "s", higher_is_better=False)
     row("R evaluations of the Python walk: now vs no contraction test, no stall hand-over",
-        calls, residual_calls(lambda: _patiently(_continue_in_python)),
+        calls, residual_calls(lambda: _continue_in_python(_PATIENT)),
         higher_is_better=False)
     steps = run.settings["steps_per_period"]
     row("N steps per period the branch took ('auto')", steps)
@@ -106,67 +122,19 @@ def main() -> None:
     _beside_packages(run, calls)
 
 
-def _route_rows(run, calls: int, route: str, emulated) -> None:
-    """The rows of one route before, ``emulated(function)`` running ``function`` as it
-    was: time, the Python walk's evaluations of R and the points, against ``run``'s (and
-    ``calls``, the Python walk's evaluations now)."""
-    times = interleaved_medians(_continue, lambda: emulated(_continue), repeats=5)
+def _route_rows(run, calls: int, route: str, before: WalkOptions) -> None:
+    """The rows of one route before, the walk with the options ``before``: time, the
+    Python walk's evaluations of R and the points, against ``run``'s (and ``calls``, the
+    Python walk's evaluations now)."""
+    times = interleaved_medians(_continue, lambda: _continue(before), repeats=5)
     row(f"continue_orbits [s] vs {route} (the route before, emulated) [s]", *times, "s",
         higher_is_better=False)
     row("R evaluations of the Python walk: now vs that route before", calls,
-        residual_calls(lambda: emulated(_continue_in_python)), higher_is_better=False)
+        residual_calls(lambda: _continue_in_python(before)), higher_is_better=False)
     row("points on the branches: now vs that route before",
         sum(b.frequency_hz.size for b in run.branches),
-        sum(b.frequency_hz.size for b in emulated(_continue).branches),
+        sum(b.frequency_hz.size for b in _continue(before).branches),
         higher_is_better=False)
-
-
-def _continue_locating_every_fold():
-    """``_continue`` with every fold the walk meets located by Brent's method, not only
-    those near a turn of f that is reported (``walk._NEAR_TURN``)."""
-    from numerics.continuation import walk as walk_module
-
-    near, walk_module._NEAR_TURN = walk_module._NEAR_TURN, 10**9
-    try:
-        return _continue()
-    finally:
-        walk_module._NEAR_TURN = near
-
-
-def _patiently(function):
-    """``function()`` with the walk's corrections as before the contraction test and the
-    stall hand-over: Newton spends its 12 iterations at a corner, and a step shrinks to
-    ``DS_MIN`` before a step in f alone is tried (``period_map._CONTRACTION``,
-    ``walk._STALL_DS``). The walk down at the coarser N that "auto" no longer
-    makes is not emulated."""
-    from numerics.continuation import period_map as period_map_module
-    from numerics.continuation import walk as walk_module
-
-    with mock.patch.object(period_map_module, "_CONTRACTION", np.inf), \
-            mock.patch.object(walk_module, "_STALL_DS", walk_module.DS_MIN):
-        return function()
-
-
-def _as_before_estimates(function):
-    """``function()`` with the walk as before ``period_map.near_enough`` and
-    ``walk.largest_step``: Newton's arclength steps stop by the exact test alone
-    (one more evaluation of R), and no step grows past ds_max."""
-    from numerics.continuation import period_map as period_map_module
-    from numerics.continuation import walk as walk_module
-
-    with mock.patch.object(period_map_module, "_ESTIMATED", False), \
-            mock.patch.object(walk_module, "_SIZE_CEILING", 1.0):
-        return function()
-
-
-def _corners_as_before(function):
-    """``function()`` with the walk as before ``walk.corner_step`` grew the
-    corner's step with the orbit's size (_CORNER_DS on every orbit) and a step that
-    failed below it shrank by _CORNER_SHRINK (halved, as any other)."""
-    from numerics.continuation import walk as c
-
-    with mock.patch.multiple(c, _CORNER_CEILING=1.0, _CORNER_SHRINK=c.SHRINK):
-        return function()
 
 
 def _walk_compile_seconds() -> float:

@@ -52,8 +52,8 @@ figures: $(STAMP)
 	from perturb import PAPER_PANEL_FRACTIONS as fracs; \
 	plot_continued_app([continue_orbits(f, 250.0, 1800.0) for f in fracs], \
 	'docs/figures/fig2-continued.png')"
-	$(PY) -c "from numerics import attractors; from numerics.plots import plot_census; \
-	plot_census(attractors(490.0, 0.5), 'docs/figures/census-490hz.png')"
+	$(PY) -c "from numerics import attractor_census; from numerics.plots import plot_census; \
+	plot_census(attractor_census(490.0, 0.5), 'docs/figures/census-490hz.png')"
 	$(PY) -c "from numerics import atlas, fold_curves; from numerics.plots import plot_atlas; \
 	plot_atlas(atlas(1150.0, 1550.0, 0.02, 0.08, grid=(41, 16)), 'docs/figures/atlas.png', \
 	folds=fold_curves(1150.0, 1550.0, 0.02, 0.08))"

@@ -4,7 +4,8 @@ The verbs, their result objects and the scenes, by concept (each folder's own
 ``__init__`` says what it holds):
 
 - ``simulation``: ``simulate`` (``Simulation``);
-- ``steady``: ``steady_states``, ``sweep``, ``attractors``, ``largest_lyapunov``, ``atlas``;
+- ``steady``: ``steady_states``, ``sweep``, ``attractor_census``, ``largest_lyapunov``,
+  ``atlas``;
 - ``continuation``: ``continue_orbits``, ``continue_in_force``, ``switch_branch``,
   ``fold_curves``;
 - ``backbone``: ``exact_backbone``; ``contact``: Fig. 4 and Fig. 5;
@@ -26,7 +27,8 @@ _LAZY = {
     "Atlas": ".steady",
     "atlas": ".steady",
     "Attractor": ".steady",
-    "attractors": ".steady",
+    "attractor_census": ".steady",
+    "attractors": ".steady",  # deprecated: attractor_census
     "Census": ".steady",
     "classify_motion": ".steady",
     "largest_lyapunov": ".steady",
@@ -98,7 +100,7 @@ __all__ = [
     "SweepRun",
     "WalkOptions",
     "atlas",
-    "attractors",
+    "attractor_census",
     "classify_motion",
     "compare",
     "continue_in_force",

@@ -10,7 +10,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 
-from numerics import Atlas, atlas, attractors
+from numerics import Atlas, atlas, attractor_census
 from numerics.steady import multistability as atlas_module
 from perturb.common import GLOSSARY, Status, load
 
@@ -41,7 +41,7 @@ def test_every_cell_is_the_census_at_its_point(small):
     assert small.settings["tasks"] == 3 and (small.status == Status.SUCCESS).all(), small
     for i, pa_frac in enumerate(small.pa_frac):
         for j, frequency_hz in enumerate(small.frequency_hz):
-            census = attractors(frequency_hz, pa_frac)
+            census = attractor_census(frequency_hz, pa_frac)
             assert small.attractor_count[i, j] == len(census.attractors)
             assert small.attractor_periods[i][j] == [a.period for a in census.attractors]
             assert small.attractor_labels[i][j] == [a.label for a in census.attractors]

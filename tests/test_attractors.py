@@ -4,11 +4,13 @@ import json
 import subprocess
 import sys
 
-from numerics import attractors
+import pytest
+
+from numerics import attractor_census
 
 
 def test_primary_and_half_superharmonic_coexist_at_740_hz():
-    census = attractors(740.0, 0.15)
+    census = attractor_census(740.0, 0.15)
     labels = [a.label for a in census.attractors]
     assert "primary" in labels and "1/2 superharmonic" in labels, census
     assert abs(sum(a.basin_fraction for a in census.attractors)
@@ -16,7 +18,7 @@ def test_primary_and_half_superharmonic_coexist_at_740_hz():
 
 
 def test_three_resonances_coexist_at_490_hz():
-    census = attractors(490.0, 0.5)
+    census = attractor_census(490.0, 0.5)
     period_one = {a.label for a in census.attractors if a.period == 1}
     assert period_one == {"primary", "1/2 superharmonic", "1/3 superharmonic"}, census
     # Beyond the paper: exactly one more, a period-2 bouncing orbit with a small basin
@@ -37,3 +39,14 @@ def test_attractors_json_has_the_documented_keys(tmp_path):
             "dominant_harmonic", "label", "multipliers"}
     assert all(keys <= set(a) for a in data["attractors"])
     assert [a["label"] for a in data["attractors"]] == ["1/2 superharmonic", "primary"]
+
+
+def test_the_old_name_of_the_census_warns_and_gives_the_same_census():
+    # `attractors()` returned a Census: it is `attractor_census()` now, and the old name
+    # stays for one release as a deprecated alias.
+    from numerics import attractors
+
+    with pytest.warns(DeprecationWarning, match="attractor_census"):
+        old = attractors(1000.0, 0.1, grid={"y_over_y0": [1.0], "v_over_omega0_y0": [0.0]})
+    new = attractor_census(1000.0, 0.1, grid={"y_over_y0": [1.0], "v_over_omega0_y0": [0.0]})
+    assert [a.as_dict() for a in old.attractors] == [a.as_dict() for a in new.attractors]

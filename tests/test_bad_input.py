@@ -6,7 +6,7 @@ from functools import partial as _partial
 import numpy as np
 import pytest
 
-from numerics import attractors, compare, hysteresis_loop, simulate, steady_states, sweep
+from numerics import attractor_census, compare, hysteresis_loop, simulate, steady_states, sweep
 from perturb import frequency_response
 
 # Eq. 2.6's series, which these tests hold unchanged: the paper's truncation.
@@ -20,9 +20,9 @@ frequency_response = _partial(frequency_response, truncation="paper")
         (lambda: steady_states(1000.0, 0.1, period_guess=9), "`period_guess`"),
         (lambda: steady_states(1000.0, 0.1, method="euler"), "`method`"),
         (lambda: steady_states([1000.0, 900.0], [0.1, 0.2, 0.3]), "broadcast"),
-        (lambda: attractors(740.0, 0.15, grid={"y_over_y0": [1.0]}), "`grid`"),
-        (lambda: attractors(740.0, [0.1, 0.2]), "`pa_frac` must be one real number"),
-        (lambda: attractors([740.0, 750.0], 0.1), "`frequency_hz` must be one real number"),
+        (lambda: attractor_census(740.0, 0.15, grid={"y_over_y0": [1.0]}), "`grid`"),
+        (lambda: attractor_census(740.0, [0.1, 0.2]), "`pa_frac` must be one real number"),
+        (lambda: attractor_census([740.0, 750.0], 0.1), "`frequency_hz` must be one real number"),
         (lambda: sweep([1000.0, 900.0], 0.1), "`frequency_hz` must be strictly increasing"),
         (lambda: sweep([1000.0], 0.1, direction="sideways"), "`direction`"),
         (lambda: simulate(1000.0, 0.1, periods=0), "`periods`"),

@@ -212,12 +212,16 @@ def test_the_comparison_runs_the_model_it_is_given(tmp_path):
     # Eq. 2.6 and of the full model, and the backbone. With m2 = 1.5, l = 0.5 (f_n0 16.5
     # kHz, y0 1.37 nm) the order-6 series is 1.7e-6 from RK4 of Eq. 2.6 (measured); had
     # either side kept the paper's model, the two would be apart by orders of magnitude.
-    from perturb import parameters_with
+    from perturb import ContactModel, parameters_with
 
     other = parameters_with({"m2": 1.5, "l": 0.5})
     grid = np.arange(300.0, 900.0, 50.0)
-    result = compare((6,), 0.05, frequency_hz=grid, parameters=other)
+    result = compare((6,), 0.05, frequency_hz=grid, model=ContactModel(other))
     paper = compare((6,), 0.05, frequency_hz=grid)
+    with pytest.warns(DeprecationWarning, match="model=ContactModel"):
+        spelled_before = compare((6,), 0.05, frequency_hz=grid, parameters=other)
+    assert spelled_before.response("eq26", 0.05, 6).largest_error == \
+        result.response("eq26", 0.05, 6).largest_error
     assert result.model["parameters"]["m2"] == 1.5
     assert result.response("eq26", 0.05, 6).largest_error < 1e-5
     ours, theirs = result.curve("eq26", 0.05).app_m, paper.curve("eq26", 0.05).app_m
@@ -226,3 +230,14 @@ def test_the_comparison_runs_the_model_it_is_given(tmp_path):
     assert main(["compare", "--orders", "2", "--pa-frac", "0.05", "--set", "m2=1.5",
                  "--set", "l=0.5", "--quiet", "--json", str(tmp_path / "c.json")]) == 0
     assert json.loads((tmp_path / "c.json").read_text())["model"]["parameters"]["m2"] == 1.5
+
+
+def test_the_comparison_refuses_a_model_that_is_not_the_full_one():
+    # It runs Eq. 2.6's model beside the full one: a model of other effects would be
+    # silently replaced, so it is refused, naming the argument.
+    from perturb import EQ_2_6, PAPER, ContactModel
+
+    with pytest.raises(ValueError, match="`model` must be a ContactModel with the full"):
+        compare((2,), 0.05, model=ContactModel(effects=EQ_2_6))
+    with pytest.raises(ValueError, match="not both"), pytest.warns(DeprecationWarning):
+        compare((2,), 0.05, model=ContactModel(), parameters=PAPER)

@@ -161,10 +161,10 @@ def test_the_census_of_a_spring_dashpot_contact_is_the_event_located_one(f_e, pe
     # that was the period-1 one and a period-6 that was the period-2 one (2048 steps a
     # period were needed). Each attractor found at the default steps is held to DOP853
     # with events from its start: App, and back at the start after its period.
-    from numerics import attractors
+    from numerics import attractor_census
 
     model = ContactModel(contact(1.0, 0.0))
-    census = attractors(f_e, 0.5, model=model)
+    census = attractor_census(f_e, 0.5, model=model)
     assert sorted(a.period for a in census.attractors) == periods
     lanes = census.lanes
     for attractor in census.attractors:

@@ -10,7 +10,7 @@ import sys
 
 import numpy as np
 
-from numerics import Status, attractors, sweep
+from numerics import Status, attractor_census, sweep
 
 
 def test_a_failed_point_does_not_poison_the_sweep():
@@ -54,13 +54,13 @@ def test_no_force_prints_no_warning():
 def test_the_census_counts_rest_once():
     # Regression: at P_a = 0 the census listed 39 copies of the rest state, each with
     # its own "superharmonic" label read from round-off.
-    census = attractors(1000.0, 0.0)
+    census = attractor_census(1000.0, 0.0)
     assert [a.label for a in census.attractors] == ["rest"]
     assert census.attractors[0].basin_fraction == 1.0
 
 
 def test_a_tiny_force_gives_one_primary_response():
-    census = attractors(1000.0, 1e-6)
+    census = attractor_census(1000.0, 1e-6)
     assert [a.label for a in census.attractors] == ["primary"]
 
 
@@ -111,11 +111,11 @@ def test_the_error_estimate_bounds_the_error_at_the_defaults():
 def test_the_census_at_too_few_steps_lists_no_spurious_attractor():
     # Regression: at 8 steps the census listed two different "1/3 superharmonic"
     # entries. Now it counts only states that pass the error check.
-    census = attractors(490.0, 0.5, steps_per_period=8)
+    census = attractor_census(490.0, 0.5, steps_per_period=8)
     assert census.lanes.status.tolist().count(Status.UNDER_RESOLVED) > 0
     assert "under-resolved" in str(census)
     # Each attractor it lists is one of the census at the default steps, within app_rtol.
-    reference = attractors(490.0, 0.5)
+    reference = attractor_census(490.0, 0.5)
     for attractor in census.attractors:
         assert any(a.period == attractor.period and abs(a.app_m / attractor.app_m - 1) < 5e-3
                    for a in reference.attractors), attractor
@@ -330,7 +330,7 @@ def test_orbits_of_every_period_up_to_8_are_found():
     # found is stable, and a long run from it stays on it.
     from numerics import simulate
 
-    census = attractors(700.0, 1.0)
+    census = attractor_census(700.0, 1.0)
     assert {3, 6} <= {a.period for a in census.attractors}, census
     assert not census.lanes.fates(), census
     for attractor in census.attractors:
@@ -369,7 +369,7 @@ def test_a_chaotic_response_is_not_settled():
     # At P_a = 2Q, 1400 Hz, every initial state ends on irregular motion: two states
     # 1e-9 y0 apart separate at a positive rate (measured 0.43 per period), so there
     # is no orbit to report. The census says so in bounded time.
-    census = attractors(1400.0, 2.0)
+    census = attractor_census(1400.0, 2.0)
     assert not census.attractors and census.not_settled_fraction == 1.0
     lanes = census.lanes
     assert "not settled within" in lanes.message[0]
@@ -475,7 +475,7 @@ def test_chaos_coexists_with_a_periodic_attractor_and_the_census_keeps_it():
     f_e = 1200.0
     grid = {"y_over_y0": (-22.0, -21.0, -20.0, -4.0, 0.0, 1.0, 2.0),
             "v_over_omega0_y0": (-3.0, 0.0, 3.0, 10.3, 12.5)}
-    census = attractors(f_e, 1.5, grid=grid)
+    census = attractor_census(f_e, 1.5, grid=grid)
     lanes = census.lanes
     rates = np.array([_largest_lyapunov_per_period(f_e, lanes.p_a_n[i], lanes.y_start_m[i],
                                                    lanes.v_start_m_s[i], int(lanes.steps_used[i]))
@@ -499,7 +499,7 @@ def test_chaos_coexists_with_a_periodic_attractor_and_the_census_keeps_it():
     assert abs(census.lyapunov.exponent_per_period.mean() - rates[chaotic].mean()) < 0.02
     assert census.chaotic_fraction == motion.count("chaotic") / 35
     # ... and twice the settling cap changes nothing: no slow transient is among them.
-    longer = attractors(f_e, 1.5, grid=grid, max_periods=2400)
+    longer = attractor_census(f_e, 1.5, grid=grid, max_periods=2400)
     assert np.array_equal(longer.lanes.status, lanes.status)
     # (b) Two attractors, their basins made of the settled lanes only.
     assert sorted(a.period for a in census.attractors) == [6, 7]

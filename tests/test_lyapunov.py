@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from numerics import attractors, classify_motion, largest_lyapunov, steady_states
+from numerics import attractor_census, classify_motion, largest_lyapunov, steady_states
 from numerics.steady.lyapunov import INITIAL_ANGLE, VERDICTS
 from perturb import PAPER, ContactModel, eq26_numbers
 from perturb.common import GLOSSARY, Status, load
@@ -29,7 +29,7 @@ CHAOS_GRID = {"y_over_y0": (-22.0, -21.0, -20.0, -4.0, 0.0, 1.0, 2.0),
 
 @pytest.fixture(scope="module")
 def chaos_census():
-    return attractors(CHAOS_F_E, CHAOS_PA, grid=CHAOS_GRID)
+    return attractor_census(CHAOS_F_E, CHAOS_PA, grid=CHAOS_GRID)
 
 
 @pytest.fixture(scope="module")
@@ -193,7 +193,7 @@ def test_transient_chaos_shows_in_the_blocks_and_is_not_called_chaotic():
     # transient, none chaotic. Their final states settle on that attractor. (Counts of
     # a chaotic run hang on the last bit of its arithmetic, which another CPU's vector
     # width can change: 15 of the 23 are asked for.)
-    census = attractors(1600.0, 2.0)
+    census = attractor_census(1600.0, 2.0)
     lanes = census.lanes
     unsettled = np.flatnonzero(lanes.status == Status.NOT_SETTLED)
     (orbit,) = census.attractors

@@ -16,7 +16,7 @@ import pytest
 
 from numerics import (
     atlas,
-    attractors,
+    attractor_census,
     compare,
     continue_in_force,
     continue_orbits,
@@ -44,7 +44,7 @@ FACTORIES = {
     "SteadyStates": lambda: steady_states([700.0, 1400.0], 0.05 * PAPER.Q_n),
     "Sweep": lambda: sweep([1300.0, 1400.0], 0.05),
     # Chaos beside period-6 and period-7 orbits: attractors and Lyapunov exponents.
-    "Census": lambda: attractors(1200.0, 1.5, grid={"y_over_y0": (-22.0, 0.0),
+    "Census": lambda: attractor_census(1200.0, 1.5, grid={"y_over_y0": (-22.0, 0.0),
                                                     "v_over_omega0_y0": (0.0, 10.3, 12.5)}),
     "Atlas": lambda: atlas(740.0, 760.0, 0.15, 0.15, grid=(2, 1), workers=1),
     "LyapunovExponents": lambda: largest_lyapunov([1000.0, 1200.0], [0.05, 1.5], 2.25e-7, 0.0,

@@ -8,7 +8,7 @@ from functools import partial as _partial
 import numpy as np
 import pytest
 
-from numerics import attractors, simulate, sweep
+from numerics import attractor_census, simulate, sweep
 from numerics.scenes import SceneError, parse_scene, read_scene, run_scene
 from numerics.scenes import _auto as auto
 from numerics.scenes._studies import model_of, run_study
@@ -218,7 +218,7 @@ def test_a_census_scene_with_a_model_override_equals_the_api_call():
     """
     run = run_scene(parse_scene(text))
     model = ContactModel(dataclasses.replace(PAPER, l=0.5))
-    direct = attractors(1400.0, 0.15, model=model)
+    direct = attractor_census(1400.0, 0.15, model=model)
     assert [a.app_m for a in run.outcomes[0].attractors] == [a.app_m for a in direct.attractors]
     assert run.model["parameters"]["l"] == 0.5
     curve = run.observables[0]

@@ -67,9 +67,9 @@ def test_unsettled_lanes_are_reported_not_averaged(weight):
 
 def test_period_two_orbit_is_found_and_stable(weight):
     # A period-2 bouncing orbit coexists at 490 Hz, 0.5 Q (see test_attractors.py).
-    from numerics import attractors
+    from numerics import attractor_census
 
-    census = attractors(490.0, 0.5)
+    census = attractor_census(490.0, 0.5)
     two = [a for a in census.attractors if a.period == 2]
     assert two and two[0].contact_lost
     # Stable: the Floquet multipliers of the 2-period map lie inside the unit circle

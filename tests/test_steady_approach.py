@@ -94,9 +94,9 @@ def test_a_period_two_orbit_is_checked_in_stages_of_whole_orbits(monkeypatch):
     # applies the 2-period monodromy. At 490 Hz the check accepts it (at 512 steps), a
     # little further it rejects it at every step count (a march then finds the orbit
     # nearby: |mu| = 0.87, the distance oscillates). The verdicts are those of one stage.
-    from numerics import attractors
+    from numerics import attractor_census
 
-    lanes = attractors(490.0, 0.5).lanes
+    lanes = attractor_census(490.0, 0.5).lanes
     two = np.flatnonzero(lanes.period == 2)[0]
     f = np.array([490.0, 490.5, 492.0])
 

@@ -104,15 +104,15 @@ def test_newton_tries_after_a_march_that_fail_match_the_python_sweep():
 
 
 def test_an_error_in_one_group_of_lanes_stops_the_others(monkeypatch):
-    # Groups of lanes walk in threads: the first error stops the other groups after
-    # their block (not after the whole walk), and is raised.
+    # Groups of lanes sweep in threads: the first error stops the other groups after
+    # their block (not after the whole sweep), and is raised.
     import threading
 
     from numerics.steady import sweep_compiled
 
     blocks = []
 
-    def walk(kernels, freq, *args):
+    def sweep_group(kernels, freq, *args):
         report, stop = args[-2:]
         if freq[0, 0] == 1000.0:  # the group of lane 1
             raise RuntimeError("broken group")
@@ -123,7 +123,7 @@ def test_an_error_in_one_group_of_lanes_stops_the_others(monkeypatch):
             stop.wait(0.005)
         return None
 
-    monkeypatch.setattr(sweep_compiled, "_walk", walk)
+    monkeypatch.setattr(sweep_compiled, "_sweep_group", sweep_group)
     freq = np.array([[900.0, 950.0], [1000.0, 1050.0]])
     with pytest.raises(RuntimeError, match="broken group"):
         sweep_compiled.sweep_lanes_compiled(freq, np.full(2, 0.1 * PAPER.Q_n),
@@ -144,7 +144,7 @@ def test_failed_points_match_the_python_sweep():
     assert compiled.runs[0].failed.any()
 
 
-def test_continuing_from_given_orbits_matches_the_python_walk():
+def test_continuing_from_given_orbits_matches_the_python_sweep():
     # numerics.scenes._auto continues windows of a sweep from a settled orbit (start=).
     model = ContactModel()
     first = sweep([1300.0], [0.05, 0.2], direction="up")
@@ -180,7 +180,7 @@ def test_bad_settings_are_named_by_both_engines(settings, name):
             sweep([1000.0, 1100.0], [0.1], **({"engine": engine} | settings))
 
 
-def test_auto_walks_in_python_until_the_driver_is_built(tmp_path, monkeypatch):
+def test_auto_sweeps_in_python_until_the_driver_is_built(tmp_path, monkeypatch):
     # Building the driver takes 25-40 s per model: "auto" does not pay it for one sweep.
     monkeypatch.setenv("CONTACT_RESONANCES_CACHE", str(tmp_path))
     model = ContactModel(PAPER, dataclasses.replace(FULL, gravity=True, damping="linear"))
@@ -192,8 +192,8 @@ def test_auto_walks_in_python_until_the_driver_is_built(tmp_path, monkeypatch):
 
 
 def test_an_unsettled_seed_is_refused_by_both_engines():
-    # A review found the compiled walk marching on from a seed that had not settled (period
-    # 0, a NaN state) where the Python walk refuses it: both refuse it now.
+    # A review found the compiled sweep marching on from a seed that had not settled (period
+    # 0, a NaN state) where the Python sweep refuses it: both refuse it now.
     first = sweep([1300.0], [0.05], direction="up")
     start = first.runs[0].take([0])
     start.period[:] = 0
@@ -206,7 +206,7 @@ def test_an_unsettled_seed_is_refused_by_both_engines():
 def test_a_broken_driver_cache_falls_back_to_python_and_is_removed(monkeypatch):
     # A review truncated the driver's numba cache file: every default sweep then raised
     # UnpicklingError, for ever. Now "auto" warns, removes the driver's files (here: a
-    # stand-in, so that the other tests keep the built driver) and takes the Python walk;
+    # stand-in, so that the other tests keep the built driver) and takes the Python sweep;
     # engine="compiled" raises.
     import pickle
 
@@ -233,8 +233,8 @@ def test_a_broken_driver_cache_falls_back_to_python_and_is_removed(monkeypatch):
         sweep([1300.0, 1400.0], [0.05], direction="up", engine="compiled")
 
 
-def test_a_walk_cut_into_one_point_blocks_matches_the_python_sweep(monkeypatch):
-    # The compiled walk runs a block of points per call (about BLOCK_SECONDS each) so that
+def test_a_sweep_cut_into_one_point_blocks_matches_the_python_sweep(monkeypatch):
+    # The compiled sweep runs a block of points per call (about BLOCK_SECONDS each) so that
     # the progress bar moves and Ctrl-C is heard; each block continues every lane from its
     # last good orbit. One point per block is the hardest case for that hand-over.
     from numerics.steady import sweep_compiled
@@ -247,16 +247,16 @@ def test_a_walk_cut_into_one_point_blocks_matches_the_python_sweep(monkeypatch):
     python = sweep_points(freq[None, :], np.array([0.2 * PAPER.Q_n]), ContactModel(), True,
                           engine="python", **ACCURACY)
     assert_same_points(blocks, python)
-    monkeypatch.setattr(sweep_compiled, "BLOCK_SECONDS", 1e9)  # one block: the whole walk
+    monkeypatch.setattr(sweep_compiled, "BLOCK_SECONDS", 1e9)  # one block: the whole sweep
     sweep_compiled.sweep_lanes_compiled(freq[None, :], np.array([0.2 * PAPER.Q_n]),
                                          ContactModel(), done=done.append, **ACCURACY)
     assert done == [1, 8]  # the first block is one point, to measure the time per point
 
 
-def test_lanes_walked_in_threads_give_the_points_of_one_walk(monkeypatch):
-    # Groups of lanes walked at once, each in a thread: a lane's arithmetic is its own
+def test_lanes_swept_in_threads_give_the_points_of_one_sweep(monkeypatch):
+    # Groups of lanes swept at once, each in a thread: a lane's arithmetic is its own
     # (each iterates Newton until it converges itself), so the points are those of one
-    # walk of all lanes, to the last bit and in the same order. The lanes as sweep()
+    # sweep of all lanes, to the last bit and in the same order. The lanes as sweep()
     # lays them out, each amplitude's sweep up beside its sweep down; two groups of
     # two lanes (0, 3 and 1, 2: dealt back and forth), and three groups, two of one lane
     # and one of two (lanes 2 and 3). The progress bar hears every point once, when
@@ -266,16 +266,16 @@ def test_lanes_walked_in_threads_give_the_points_of_one_walk(monkeypatch):
     freq = np.tile(np.linspace(900.0, 1500.0, 13), (4, 1))
     freq[1::2] = freq[1::2, ::-1]  # up, down, up, down
     p_a = np.array([0.1, 0.1, 0.4, 0.4]) * PAPER.Q_n
-    walked = {}
+    swept = {}
     for threads in (1, 2, 3):
         done = []
-        walked[threads] = sweep_compiled.sweep_lanes_compiled(
+        swept[threads] = sweep_compiled.sweep_lanes_compiled(
             freq, p_a, ContactModel(), done=done.append, threads=threads, **ACCURACY)
         assert sum(done) == freq.shape[1], done
-    assert_same_points(walked[2], walked[1])
-    assert_same_points(walked[3], walked[1])
-    assert (walked[1].frequency_hz.reshape(13, 4) == freq.T).all()  # point after point
-    assert walked[1].status.size == 52 and set(walked[1].method) >= {"newton"}
+    assert_same_points(swept[2], swept[1])
+    assert_same_points(swept[3], swept[1])
+    assert (swept[1].frequency_hz.reshape(13, 4) == freq.T).all()  # point after point
+    assert swept[1].status.size == 52 and set(swept[1].method) >= {"newton"}
 
 
 @pytest.mark.parametrize("lanes", [0, 1, 2, 3, 7, 20, 24])

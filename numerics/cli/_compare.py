@@ -42,12 +42,14 @@ def add_compare_parser(sub) -> None:
 
 
 def _compare(args: argparse.Namespace) -> int:
+    from perturb import ContactModel
+
     from ..comparison.study import compare
 
     # --orders and --pa-frac are checked by their argparse types (exit 2, naming
     # the option); compare() checks them again for callers from Python.
     result = compare(sorted(set(args.orders)), sorted(set(args.pa_frac)),
-                     parameters=model_parameters(args), quiet=args.quiet,
+                     model=ContactModel(model_parameters(args)), quiet=args.quiet,
                      truncation=args.truncation, allow_slow=args.allow_slow,
                      unchecked=args.unchecked)
     if args.json:

@@ -18,7 +18,7 @@ from perturb.common import (
 )
 from perturb.model.set_option import add_model_option, model_parameters
 
-from ..steady.census import attractors
+from ..steady.census import attractor_census
 from ..steady.shooting import DEFAULTS, MAX_STEPS
 from ..steady.sweeps import DIRECTIONS, MAX_STATES, sweep
 
@@ -143,7 +143,7 @@ def add_attractors_parser(sub) -> None:
 def _attractors(args: argparse.Namespace) -> int:
     model = ContactModel(model_parameters(args))
     note(f"attractors at {args.fe} Hz, {args.pa_frac} Q ...", quiet=args.quiet)
-    census = attractors(args.fe, args.pa_frac, model=model, steps_per_period=args.steps,
+    census = attractor_census(args.fe, args.pa_frac, model=model, steps_per_period=args.steps,
                         tol=args.tol, unchecked=args.unchecked)
     if args.json:
         census.to_json(args.json)

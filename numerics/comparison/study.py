@@ -8,11 +8,12 @@ Eq. 2.6 (contact loss, or the damping law while in contact).
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import asdict
 
 import numpy as np
 
-from perturb import PAPER, PAPER_BAND_HZ, ContactModel, ContactParameters, frequency_response
+from perturb import FULL, PAPER_BAND_HZ, ContactModel, ContactParameters, frequency_response
 from perturb.common import (
     Result,
     check_int,
@@ -139,6 +140,24 @@ def _checked(orders, pa_frac, tolerance) -> tuple[tuple[int, ...], tuple[float, 
     return orders, fracs, check_positive("tolerance", tolerance)
 
 
+def _compared_parameters(model, parameters) -> ContactParameters:
+    """The parameters of the full model that ``compare`` is given (``parameters=``, the
+    deprecated spelling, with a DeprecationWarning)."""
+    if parameters is not None:
+        warnings.warn("`compare(parameters=...)` is deprecated: pass "
+                      "`model=ContactModel(parameters)`", DeprecationWarning, stacklevel=3)
+        if model is not None:
+            raise ValueError("give `model` or `parameters` (deprecated), not both.")
+        if not isinstance(parameters, ContactParameters):
+            raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
+        return parameters
+    model = ContactModel() if model is None else model
+    if not isinstance(model, ContactModel) or model.effects != FULL:
+        raise ValueError("`model` must be a ContactModel with the full model's effects (the "
+                         f"comparison runs Eq. 2.6's beside it), got {model!r}.")
+    return model.parameters
+
+
 def compare(
     orders=(2, 4, 6),
     pa_frac=(0.05, 0.10, 0.15),
@@ -146,11 +165,12 @@ def compare(
     frequency_hz=None,
     steps_per_period: int = 128,
     tolerance: float = 0.01,
-    parameters: ContactParameters = PAPER,
+    model: ContactModel | None = None,
     quiet: bool = True,
     truncation: str = "consistent",
     allow_slow: bool = False,
     unchecked: bool = False,
+    parameters: ContactParameters | None = None,
 ) -> Comparison:
     """Series of each order against the exact backbone and RK4 steady states.
 
@@ -167,9 +187,10 @@ def compare(
     tolerance : float
         Relative error bounding the backbone's range, and the difference that
         counts as the two models parting.
-    parameters : ContactParameters
-        The model's parameters (the paper's by default); the grid's default stays
-        the paper's band.
+    model : ContactModel, optional
+        The full model whose contact is compared (the paper's by default): the series
+        and RK4 of Eq. 2.6 and of the full model at its parameters. The grid's default
+        stays the paper's band.
     quiet : bool
         No progress on stderr.
     truncation : {"consistent", "paper"}
@@ -181,6 +202,8 @@ def compare(
     unchecked : bool
         Go past the ranges of f_e, P_a and the contact where the answers are measured
         to hold (``numerics.simulation.ranges.TESTED``); refused otherwise.
+    parameters : ContactParameters, optional
+        Deprecated: ``model=ContactModel(parameters)`` says the same.
 
     Returns
     -------
@@ -200,8 +223,7 @@ def compare(
     if np.any(np.diff(grid) <= 0):
         raise ValueError("`frequency_hz` must be strictly increasing.")
     start = time.perf_counter()
-    if not isinstance(parameters, ContactParameters):
-        raise ValueError(f"`parameters` must be ContactParameters, got {parameters!r}.")
+    parameters = _compared_parameters(model, parameters)
     truncation = truncation_for(truncation, parameters).name  # a bad name: a ValueError
     for n in orders:  # before any work
         check_slow_order(n, "response", truncation, parameters, allow_slow=allow_slow)

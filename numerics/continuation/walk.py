@@ -293,11 +293,12 @@ def continue_orbits(
         No progress bar on stderr.
     engine : {"auto", "compiled", "python"}
         The walk's steps (predictor, Newton, step control) in compiled code, handing
-        back to Python only where a bifurcation is located or the band ends ("auto", the
-        default, and "compiled": built once per model, some 5 s), or step by step in
-        Python (the reference). Both walk the same branch, to Newton's tolerance, but
-        where the map's corners crowd (loss of contact) a round-off can end a walk at
-        another corner.
+        back to Python only where a bifurcation is located or the band ends
+        ("compiled": built once per model, some 5 s), or step by step in Python (the
+        reference). "auto" (the default), as everywhere: the compiled route where it is
+        built or builds within seconds, as the walk does; so "auto" compiles here.
+        Both walk the same branch, to Newton's tolerance, but where the map's corners
+        crowd (loss of contact) a round-off can end a walk at another corner.
     options : WalkOptions, optional
         The walk's tuning: its step control and corrector (the tested defaults by
         default).

@@ -668,7 +668,7 @@ def _merge(lanes, fl, it, mult, maxima, minima, fine_fl, fine_it, fine_mult, fin
         it[lane, I_RUN] = cost
 
 
-# nogil: groups of lanes are walked at once, in threads (numerics.steady.sweep_compiled).
+# nogil: groups of lanes are swept at once, in threads (numerics.steady.sweep_compiled).
 @numba.njit(cache=True, error_model="numpy", nogil=True)
 def sweep_lanes(freq, p_a, steps, cap, limit, y, v, app, period, continued, use_newton, tol,
                 app_rtol, refinements, max_steps, length, tables, table_steps, table_offset):

@@ -57,10 +57,11 @@ def _sweep(scene, model, grid, quiet) -> StudyRun:
 
 
 def _attractors(scene, model, grid, quiet) -> StudyRun:
-    from ..steady.census import attractors
+    from ..steady.census import attractor_census
 
-    censuses = [attractors(f, frac, model=model, steps_per_period=scene.options["steps_per_period"],
-                           unchecked=scene.unchecked)
+    censuses = [attractor_census(f, frac, model=model,
+                                 steps_per_period=scene.options["steps_per_period"],
+                                 unchecked=scene.unchecked)
                 for f, frac in _pairs(scene, grid)]
     return StudyRun(censuses, "steady states from a grid of initial states: extrema and y after "
                               "every step of each attractor's period")
@@ -147,7 +148,7 @@ def _comparison(scene, model, grid, quiet) -> StudyRun:
 
     result = compare(scene.options["orders"], scene.pa_frac, frequency_hz=grid,
                      steps_per_period=scene.options["steps_per_period"],
-                     parameters=model.parameters, quiet=quiet,
+                     model=ContactModel(model.parameters), quiet=quiet,
                      truncation=scene.options["truncation"])
     return StudyRun([result], "series, exact backbone, and RK4 steady states of Eq. 2.6 and "
                               "of the full model")

@@ -5,7 +5,8 @@
   the compiled sweep, ``kernels/sweep_template``, takes its constants from here);
 - ``orbits``: ``Orbits``, the one record of steady-state observables;
 - ``sweeps`` and ``sweep_compiled``: ``sweep``, frequency sweeps up and down (Fig. 2, 3);
-- ``census``: ``attractors``, which steady states coexist and their basins (``Census``);
+- ``census``: ``attractor_census``, which steady states coexist and their basins
+  (``Census``; ``attractors``, its deprecated name);
 - ``lyapunov``: ``largest_lyapunov``, chaos told apart from slow transients;
 - ``multistability``: ``atlas``, the census over a grid of (f_e, P_a) on any Executor.
 """
@@ -22,6 +23,7 @@ _LAZY = {
     "sweep": ".sweeps",
     "Attractor": ".census",
     "Census": ".census",
+    "attractor_census": ".census",
     "attractors": ".census",
     "LyapunovExponents": ".lyapunov",
     "largest_lyapunov": ".lyapunov",
@@ -42,6 +44,7 @@ __all__ = [
     "Sweep",
     "SweepRun",
     "atlas",
+    "attractor_census",
     "attractors",
     "classify_motion",
     "largest_lyapunov",

@@ -8,6 +8,7 @@ multi-stability).
 from __future__ import annotations
 
 import time
+import warnings
 
 import numpy as np
 
@@ -29,7 +30,7 @@ from .lyapunov import LyapunovExponents, check_run, largest_lyapunov
 from .orbits import Orbits
 from .shooting import DEFAULTS, steady_states
 
-__all__ = ["Attractor", "Census", "attractors", "censuses", "DEFAULT_GRID"]
+__all__ = ["Attractor", "Census", "attractor_census", "attractors", "censuses", "DEFAULT_GRID"]
 
 #: Initial states, in units of the static deflection y0 (displacement, as y/y0)
 #: and of omega0*y0 (velocity). They cover rest (y = y0, v = 0), small
@@ -153,7 +154,7 @@ def initial_grid(model: ContactModel, grid: dict | None = None) -> tuple[np.ndar
     return y.ravel(), v.ravel()
 
 
-def attractors(
+def attractor_census(
     frequency_hz: float,
     pa_frac: float,
     *,
@@ -189,7 +190,7 @@ def attractors(
 
     Examples
     --------
-    >>> census = attractors(740.0, 0.15)
+    >>> census = attractor_census(740.0, 0.15)
     >>> [(a.label, a.contact_lost) for a in census.attractors]
     [('1/2 superharmonic', False), ('primary', True)]
     """
@@ -202,6 +203,13 @@ def attractors(
                          lyapunov_periods=lyapunov_periods)
     return census
 
+
+
+def attractors(*args, **kwargs) -> Census:
+    """Deprecated: ``attractor_census``, named after the ``Census`` it returns."""
+    warnings.warn("`attractors()` is deprecated: it is `attractor_census()`, named after the "
+                  "Census it returns", DeprecationWarning, stacklevel=2)
+    return attractor_census(*args, **kwargs)
 
 def censuses(
     frequency_hz,

@@ -44,12 +44,12 @@ def supported(accuracy: dict) -> bool:
     return not accuracy.get("keep_orbits", False)
 
 
-#: The walk is cut into blocks of points lasting about this long [s], so that the
+#: The sweep is cut into blocks of points lasting about this long [s], so that the
 #: progress bar moves and Ctrl-C is heard between them (the driver cannot be
 #: interrupted inside a call).
 BLOCK_SECONDS = 0.25
-def walk_threads(lanes: int, least: int) -> int:
-    """How many threads walk ``lanes`` lanes: one per core this process may run on, each
+def sweep_threads(lanes: int, least: int) -> int:
+    """How many threads sweep ``lanes`` lanes: one per core this process may run on, each
     with at least ``least`` lanes (the kernels' ``VECTOR_LANES``: their vector loops take
     that many lanes at a time, fewer run one by one; ``bench_kernel`` measures both)."""
     return max(1, min(processors(), lanes // least))
@@ -85,9 +85,9 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
     frequency by frequency. ``done(points)`` is called as blocks end (from the groups'
     threads, when there are several).
 
-    The lanes are walked in ``threads`` groups at once, a thread each (default
-    ``walk_threads``). A lane's arithmetic is its own, whatever lanes share its batch,
-    so the points are those of one walk of all lanes, to the last bit
+    The lanes are swept in ``threads`` groups at once, a thread each (default
+    ``sweep_threads``). A lane's arithmetic is its own, whatever lanes share its batch,
+    so the points are those of one sweep of all lanes, to the last bit
     (tests/test_sweep_compiled.py). An error in one group stops the others after their
     block, and is raised."""
     if keep_orbits:
@@ -116,14 +116,14 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
     settings = (method == "newton", float(tol), -1.0 if app_rtol is None else float(app_rtol),
                 int(refinements), MAX_STEPS, float(numbers.y0_m or 1.0), tables, table_steps,
                 table_offset)
-    count = (walk_threads(lanes, kernels.VECTOR_LANES) if threads is None
+    count = (sweep_threads(lanes, kernels.VECTOR_LANES) if threads is None
              else check_int("threads", threads, minimum=1))
     groups = deal_lanes(lanes, count)
 
-    def walk(group: np.ndarray, report, stop: threading.Event) -> Orbits:
+    def run_group(group: np.ndarray, report, stop: threading.Event) -> Orbits:
         seed = [np.ascontiguousarray(a[group]) for a in (y, v, app, period)]
         try:
-            return _walk(kernels, freq[group], p_a[group], steps[group], cap[group],
+            return _sweep_group(kernels, freq[group], p_a[group], steps[group], cap[group],
                          limit[group], seed, continued, settings, app_rtol,
                          numbers.fastest_rate_per_s, report, stop)
         except BaseException:
@@ -131,10 +131,10 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
             raise
 
     if count == 1:
-        return walk(groups[0], done, threading.Event())
+        return run_group(groups[0], done, threading.Event())
     bar, stop = _Progress(done, count), threading.Event()
     with ThreadPoolExecutor(count, thread_name_prefix="sweep") as pool:
-        futures = [pool.submit(walk, group, bar.reporter(k), stop)
+        futures = [pool.submit(run_group, group, bar.reporter(k), stop)
                    for k, group in enumerate(groups)]
         try:
             parts = [future.result() for future in futures]
@@ -144,9 +144,9 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
     return _interleave(parts, groups, freq.shape)
 
 
-def _walk(kernels, freq, p_a, steps, cap, limit, seed, continued, settings, app_rtol, rate,
+def _sweep_group(kernels, freq, p_a, steps, cap, limit, seed, continued, settings, app_rtol, rate,
           done, stop: threading.Event) -> Orbits:
-    """One group of lanes walked, a block of points per call, until the end or ``stop``."""
+    """One group of lanes swept, a block of points per call, until the end or ``stop``."""
     blocks, first, size = [], 0, 1
     while first < freq.shape[1] and not stop.is_set():
         block = slice(first, min(first + size, freq.shape[1]))
@@ -165,7 +165,7 @@ def _walk(kernels, freq, p_a, steps, cap, limit, seed, continued, settings, app_
 
 
 class _Progress:
-    """``done(points)`` for groups walked at once: the points every group has passed."""
+    """``done(points)`` for groups swept at once: the points every group has passed."""
 
     def __init__(self, done, groups: int):
         self.done, self.passed, self.told = done, [0] * groups, 0
@@ -183,7 +183,7 @@ class _Progress:
 
 
 def _interleave(parts: list[Orbits], groups: list[np.ndarray], shape) -> Orbits:
-    """The groups' points as one walk's: point after point, the lanes of each in order."""
+    """The groups' points as one sweep's: point after point, the lanes of each in order."""
     lanes, points = shape
     row = [(np.arange(points)[:, None] * lanes + group[None, :]).ravel() for group in groups]
     return Orbits.stack(parts).take(np.argsort(np.concatenate(row)))

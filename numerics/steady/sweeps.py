@@ -2,7 +2,7 @@
 
 Each point starts from the previous point's steady state, as in the paper's
 method; every (amplitude, direction) pair is a lane, and all lanes advance
-through their frequency lists together. The walk runs in one compiled call per
+through their frequency lists together. The sweep runs in one compiled call per
 sweep (``kernels.sweep_template.sweep_lanes``, which does per point what ``steady_states``
 does) or point by point in Python, one ``steady_states`` call per frequency
 (``engine="python"``, the reference); tests/test_sweep_compiled.py holds them
@@ -31,7 +31,7 @@ from .sweep_compiled import DriverUnusable, supported, sweep_lanes_compiled
 __all__ = ["SweepRun", "Sweep", "sweep", "DIRECTIONS"]
 
 DIRECTIONS = ("up", "down", "both")
-#: How the points are walked: one compiled call per sweep, or steady_states per point;
+#: How the points are swept: one compiled call per sweep, or steady_states per point;
 #: "auto" takes the compiled call where its driver is built for the model (building it
 #: costs tens of seconds once per model: a saving only after dozens of sweeps).
 ENGINES = ("auto", "compiled", "python")
@@ -156,10 +156,11 @@ def sweep(
     quiet : bool
         No progress bar on stderr.
     engine : {"auto", "compiled", "python"}
-        The whole walk in one compiled call (with ``keep_orbits`` the Python route is
+        The whole sweep in one compiled call (with ``keep_orbits`` the Python route is
         taken), or point by point in Python (the reference); both give the same points.
-        "auto" (the default) takes the compiled call where its driver is built for the
-        model already (compiling it takes tens of seconds, once), Python otherwise.
+        "auto" (the default), as everywhere: the compiled route where it is built or
+        builds within seconds; the driver takes tens of seconds to build, so "auto"
+        takes it once it is built for the model (``make compiled``), Python before.
     unchecked : bool
         Go past the ranges of f_e, P_a and the contact where the answers are measured
         to hold (``numerics.simulation.ranges.TESTED``); refused otherwise.
@@ -338,20 +339,20 @@ def sweep_points(freq, p_a, model, quiet, start: Orbits | None = None, *,
                  engine: str = "auto", **accuracy) -> Orbits:
     """Walk every lane through its frequencies; the points, frequency by frequency.
 
-    ``engine="compiled"`` runs the whole walk in one compiled call (where it supports
+    ``engine="compiled"`` runs the whole sweep in one compiled call (where it supports
     the settings: not with ``keep_orbits``), "python" point by point with
     ``steady_states``; both give the same points (tests/test_sweep_compiled.py).
     """
     check_choice("engine", engine, ENGINES)
-    points = _walk(freq, p_a, model, quiet, start, engine, **accuracy)
+    points = _points_by_engine(freq, p_a, model, quiet, start, engine, **accuracy)
     for row, seed_row in _unresolved_jumps(points, freq.shape[0]):
         if not _resweep_finer(points, row, seed_row, freq, p_a, model, engine, accuracy):
             _flag(points, row, seed_row)
     return points
 
 
-def _walk(freq, p_a, model, quiet, start, engine, **accuracy) -> Orbits:
-    """``sweep_points``' walk by the engine asked for."""
+def _points_by_engine(freq, p_a, model, quiet, start, engine, **accuracy) -> Orbits:
+    """``sweep_points``' points by the engine asked for."""
     chosen = engine
     if engine == "auto":
         engine = "compiled" if sweep_driver_built(model) else "python"
@@ -374,7 +375,7 @@ def _walk(freq, p_a, model, quiet, start, engine, **accuracy) -> Orbits:
 
 def _sweep_lanes_python(freq, p_a, model, quiet, start: Orbits | None = None,
                         **accuracy) -> Orbits:
-    """The walk point by point, one ``steady_states`` call per frequency.
+    """The sweep point by point, one ``steady_states`` call per frequency.
 
     Each point starts from the orbit of the last point that settled, under-resolved
     or not (the paper's method), or from rest if none has: a point that failed,

@@ -323,9 +323,10 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
                   "rad", ""),
     "max_points": ("most points a walk of a continued branch may take (the folds located "
                    "once it has ended come on top)", "1", ""),
-    "engine": ("how a walk ran: 'compiled' (whole in machine code) or 'python' (the "
-               "reference, step by step); asked for as 'auto', 'compiled' or 'python'", "",
-               ""),
+    "engine": ("how a sweep, a walk or the analytic response runs: 'compiled' (machine "
+               "code) or 'python' / 'numpy' (the reference); 'auto' takes the compiled route "
+               "where it is built or builds within seconds (the walk), the reference "
+               "otherwise (`make compiled` builds the rest)", "", ""),
     "walk_options": ("the tuning a walk ran with: the fields of `numerics.WalkOptions` "
                      "(step control and corrector), each documented there", "", ""),
     "switched_at_hz": ("the period doublings a period-2p branch was switched onto at "

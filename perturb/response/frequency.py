@@ -361,7 +361,8 @@ def frequency_response(
         "compiled": the compiled kernels of the order and of the terms the series
         keeps (built once per cache: tens of seconds for Eq. 2.6's series, up to
         minutes for a consistent series that keeps every k_j and d_j; then some 10x
-        faster than numpy); "numpy": the residual grid in numpy (no build); "auto":
+        faster than numpy); "numpy": the residual grid in numpy (no build); "auto", as
+        everywhere, the compiled route where it is built or builds within seconds: so
         compiled where those kernels are built, numpy otherwise. They give the same
         branches, roots (within 1e-12) and validity. The numpy route evaluates
         Eq. 2.6's series by its lambdified closed forms, and any other series by the

@@ -1,7 +1,7 @@
 """The multistability atlas (issue 13, item 5): time per cell, and the issue's goal.
 
 Grid: the paper's band 250-1800 Hz and P_a 0.05-0.5 Q. Baseline, measured in the same
-run: ``attractors()`` called cell by cell in this process, the route without the
+run: ``attractor_census()`` called cell by cell in this process, the route without the
 atlas. Beside it: the atlas in this process (the batching alone: many cells per kernel
 call) and with the default pool (every processor). Then the time per cell against the
 cells per task (``TASK_LANES``), the whole command as a new process, the atlas on a dask
@@ -21,7 +21,7 @@ import time
 
 import numpy as np
 
-from numerics import atlas, attractors
+from numerics import atlas, attractor_census
 from numerics.steady import multistability
 from perturb.common import processors
 
@@ -45,7 +45,7 @@ def cell_by_cell(grid=GRID) -> None:
     """The baseline: one census per cell, in this process."""
     for pa_frac in np.linspace(*AMPLITUDES, grid[1]):
         for frequency_hz in np.linspace(*BAND, grid[0]):
-            attractors(frequency_hz, pa_frac)
+            attractor_census(frequency_hz, pa_frac)
 
 
 def main() -> None:
@@ -57,7 +57,7 @@ def main() -> None:
     workers = processors()
     header(f"Atlas {GRID[0]} x {GRID[1]} cells, 98 initial states, {BAND[0]:g}-{BAND[1]:g} Hz, "
            f"{AMPLITUDES[0]:g}-{AMPLITUDES[1]:g} Q (medians of {REPEATS})")
-    row("attractors() cell by cell [s]", serial, unit="s")
+    row("attractor_census() cell by cell [s]", serial, unit="s")
     row("atlas in this process [s] vs cell by cell", batched, serial, "s",
         higher_is_better=False)
     row(f"atlas, default pool ({workers} workers) [s] vs cell by cell", pooled, serial, "s",

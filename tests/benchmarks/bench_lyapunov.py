@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from numerics import attractors, largest_lyapunov
+from numerics import attractor_census, largest_lyapunov
 from numerics.kernels.lanes import Lanes
 from numerics.steady.lyapunov import DEFAULTS
 from perturb import ContactModel, eq26_numbers
@@ -28,7 +28,7 @@ GRID = {"y_over_y0": (-22.0, -21.0, -20.0, -4.0, 0.0, 1.0, 2.0),
 
 
 def _census_lanes():
-    lanes = attractors(F_E, PA_FRAC, grid=GRID).lanes
+    lanes = attractor_census(F_E, PA_FRAC, grid=GRID).lanes
     return lanes.y_start_m, lanes.v_start_m_s, int(lanes.steps_used.max())
 
 

@@ -79,14 +79,14 @@ def dop853(result) -> float:
 
 
 def in_one_thread(job):
-    """``job`` with the compiled sweep walking all its lanes in one thread."""
+    """``job`` with the compiled sweep sweeping all its lanes in one thread."""
     def run():
-        threads = sweep_compiled.walk_threads
-        sweep_compiled.walk_threads = lambda lanes, least: 1
+        threads = sweep_compiled.sweep_threads
+        sweep_compiled.sweep_threads = lambda lanes, least: 1
         try:
             return job()
         finally:
-            sweep_compiled.walk_threads = threads
+            sweep_compiled.sweep_threads = threads
     return run
 
 
@@ -132,7 +132,7 @@ def main() -> None:
            f"steady states")
     row("compiled sweep, warm [s] vs Python-driven (goal 0.1)", warm, warm_python, "s",
         higher_is_better=False)
-    threads = sweep_compiled.walk_threads(len(result.runs),
+    threads = sweep_compiled.sweep_threads(len(result.runs),
                                            compiled_kernels(ContactModel()).VECTOR_LANES)
     row(f"  its lanes in {threads} thread(s), one per core [s] vs in one", threaded,
         one_thread, "s", higher_is_better=False)

@@ -144,7 +144,7 @@ def main() -> None:
     print("heavy modules imported (new route, cache warm): "
           + "; ".join(f"{name}: {found}" for name, found in heavy.items()))
     print("new route: the compiled sweep driver built before the timing (make compiled); "
-          "without it the sweep takes the Python walk")
+          "without it the sweep takes the Python route")
 
 
 if __name__ == "__main__":

@@ -133,9 +133,9 @@ def test_the_lyapunov_kernel_compiles_at_its_first_call_only(cache, monkeypatch)
 @pytest.fixture
 def fresh_numbers(cache):
     """An empty cache and no numbers remembered by this process."""
-    numbers_module.numbers_module.cache_clear()
+    numbers_module._numbers.cache_clear()
     yield cache
-    numbers_module.numbers_module.cache_clear()
+    numbers_module._numbers.cache_clear()
 
 
 def _derived_again(parameters):
@@ -147,7 +147,7 @@ def test_cached_numbers_are_the_sympy_derivation(parameters, fresh_numbers, monk
     derived = eq26.derive_numbers(parameters)  # sympy, no cache
     first = eq26_numbers(parameters)  # derived and written
     assert numbers_module.numbers_path(parameters).exists()
-    numbers_module.numbers_module.cache_clear()
+    numbers_module._numbers.cache_clear()
     monkeypatch.setattr(eq26, "derive_numbers", _derived_again)
     read = eq26_numbers(parameters)
     # JSON writes a float's shortest repr, which reads back to the same float: exact.
@@ -185,7 +185,7 @@ def test_a_damaged_numbers_file_is_derived_again(damage, fresh_numbers):
         assert record["numbers"]["y0_m"] != expected.y0_m
     broken = {"truncated": text[: len(text) // 2], "emptied": ""}.get(damage, json.dumps(record))
     path.write_text(broken)
-    numbers_module.numbers_module.cache_clear()
+    numbers_module._numbers.cache_clear()
     assert eq26_numbers(OTHER) == expected
     assert json.loads(path.read_text()) == json.loads(text)  # written again
 
@@ -193,11 +193,11 @@ def test_a_damaged_numbers_file_is_derived_again(damage, fresh_numbers):
 def test_numbers_in_an_unwritable_cache_folder(monkeypatch):
     monkeypatch.setenv("CONTACT_RESONANCES_CACHE", "/proc/contact-resonances-numbers")
     monkeypatch.setattr(cache_module, "_WARNED", set())
-    numbers_module.numbers_module.cache_clear()
+    numbers_module._numbers.cache_clear()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         numbers = eq26_numbers(OTHER)
-    numbers_module.numbers_module.cache_clear()
+    numbers_module._numbers.cache_clear()
     assert [w.category for w in caught] == [codegen.CacheWarning]
     assert numbers == eq26.derive_numbers(OTHER)
 

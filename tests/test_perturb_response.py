@@ -236,7 +236,7 @@ def series_states(response):
     return states
 
 
-def attractor_census(pa_frac, frequencies):
+def rk4_attractors(pa_frac, frequencies):
     """App of the RK4 attractors of Eq. 2.6 from rest and from every order-6 root."""
     starts = [(f, VALUES.y0_m, 0.0) for f in frequencies]
     starts += series_states(frequency_response(np.array(frequencies), pa_frac, 6))
@@ -269,7 +269,7 @@ VALID_FLOOR = {0.05: 22, 0.10: 3, 0.15: 1}
 @pytest.mark.parametrize("pa_frac", sorted(HONESTY_CASES))
 def test_valid_points_are_within_one_percent_of_rk4(pa_frac):
     frequencies = HONESTY_CASES[pa_frac]
-    f, app = attractor_census(pa_frac, frequencies)
+    f, app = rk4_attractors(pa_frac, frequencies)
     compared = 0
     for order in (0, 2, 3, 5):
         response = frequency_response(np.array(frequencies), pa_frac, order)

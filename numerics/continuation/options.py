@@ -95,6 +95,8 @@ class WalkOptions:
     ValueError: `grow` must be at least 1, got 0.5.
     >>> WalkOptions.from_dict(WalkOptions(contraction=math.inf).as_dict()).contraction
     inf
+    >>> WalkOptions(grow=2, newton_iterations=12.0).as_dict()["newton_iterations"]
+    12
     """
 
     ds_start: float = 1e-3
@@ -139,6 +141,11 @@ class WalkOptions:
         if not isinstance(self.stop_by_estimate, bool):
             raise ValueError(f"`stop_by_estimate` must be True or False, got "
                              f"{self.stop_by_estimate!r}.")
+        # Kept as the types the fields name: an integer float would be a float in
+        # range(), and an int in a float field a second signature of the compiled walk.
+        for field in dataclasses.fields(self):
+            kind = {"float": float, "int": int, "bool": bool}[field.type]
+            object.__setattr__(self, field.name, kind(getattr(self, field.name)))
         if not self.ds_min <= self.stall_ds <= self.ds_start:
             raise ValueError(f"the steps must keep ds_min <= stall_ds <= ds_start, got "
                              f"{self.ds_min!r}, {self.stall_ds!r} and {self.ds_start!r}.")

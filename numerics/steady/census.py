@@ -204,12 +204,12 @@ def attractor_census(
     return census
 
 
-
 def attractors(*args, **kwargs) -> Census:
     """Deprecated: ``attractor_census``, named after the ``Census`` it returns."""
     warnings.warn("`attractors()` is deprecated: it is `attractor_census()`, named after the "
                   "Census it returns", DeprecationWarning, stacklevel=2)
     return attractor_census(*args, **kwargs)
+
 
 def censuses(
     frequency_hz,
@@ -222,7 +222,7 @@ def censuses(
     max_periods: int | None = DEFAULTS["max_periods"],
     lyapunov_periods: int | None = LYAPUNOV_PERIODS,
 ) -> list[Census]:
-    """``attractors`` at many points (f_e, P_a) at once: every lane of every point in
+    """``attractor_census`` at many points (f_e, P_a) at once: every lane of every point in
     one batch of ``steady_states``, so that the compiled kernel runs many lanes per call
     (the atlas, ``numerics/steady/multistability.py``).
 
@@ -231,7 +231,7 @@ def censuses(
     frequency_hz, pa_frac : array_like, shape (cells,)
         The points: f_e [Hz] (> 0) and P_a / Q (>= 0), one pair per census.
     model, grid, steps_per_period, tol, max_periods, lyapunov_periods
-        As in ``attractors``.
+        As in ``attractor_census``.
 
     Returns
     -------

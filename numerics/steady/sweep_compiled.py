@@ -80,7 +80,7 @@ def deal_lanes(lanes: int, count: int) -> list[np.ndarray]:
 def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps_per_period,
                          tol, app_rtol, max_periods, method, refinements,
                          keep_orbits=False, done=None, threads: int | None = None) -> Orbits:
-    """``sweeps._sweep_lanes`` in compiled calls, a block of points at a time (each block
+    """``sweeps.sweep_points`` in compiled calls, a block of points at a time (each block
     continues from the last good orbit of every lane, as a point does): the points,
     frequency by frequency. ``done(points)`` is called as blocks end (from the groups'
     threads, when there are several).

@@ -300,7 +300,7 @@ def _orders(series: Series, each_order: Callable[[], object] | None) -> list[lis
     return orders
 
 
-def heading_lines(n: int, series: Series) -> tuple[str, str]:
+def _heading(n: int, series: Series) -> tuple[str, str]:
     if not series.is_eq26:
         return (f"Order eps^{n}", rf"Order $\varepsilon^{{{n}}}$")
     if n <= PAPER_ORDER:
@@ -355,7 +355,7 @@ def derivation_text(series: Series, *, each_order: Callable[[], object] | None =
     """
     lines = _preamble(check_series(series))
     for n, steps in enumerate(_orders(series, each_order)):
-        lines.append(heading_lines(n, series)[0])
+        lines.append(_heading(n, series)[0])
         for step in steps:
             lines.append("  " + step.title[0])
             lines += ["    " + _text_row(row) for row in step.rows]
@@ -404,7 +404,7 @@ def derivation_latex(series: Series, *, each_order: Callable[[], object] | None 
     """
     out = [rf"% {line}" for line in _preamble(check_series(series))]
     for n, steps in enumerate(_orders(series, each_order)):
-        out.append(rf"\paragraph{{{heading_lines(n, series)[1]}}}")
+        out.append(rf"\paragraph{{{_heading(n, series)[1]}}}")
         out.append(steps[0].title[1])
         out.append(r"\begin{align*}")
         rows = []

@@ -144,8 +144,15 @@ def test_the_compiled_walk_reads_each_number_of_its_options_by_name():
              "f_hi": 0.2 / shoot.scale[2]}
     expected = {name: float(given[name] if name in given else getattr(options, name))
                 for name in WalkNumbers._fields}
-    assert len(set(expected.values()) - {1.0}) == len(expected) - 1  # distinct but "True"
+    switches = {"stop_by_estimate", "corners", "shrink_by_turn"}  # True: 1.0 each
+    numbers = [value for name, value in expected.items() if name not in switches]
+    assert len(set(numbers)) == len(numbers) and 1.0 not in numbers  # a swap would show
     assert walk.settings._asdict() == expected
+    for switch in switches:  # each switch in its own field
+        off = c.Walk(m.ForceMap(ContactModel(), 1400.0, 512, 1,
+                                options=dataclasses.replace(options, **{switch: False})),
+                     0.01, 0.2, 1, 0.031, 0.07, 10, None).settings._asdict()
+        assert {k for k in off if off[k] != expected[k]} == {switch}
     unused = {f.name for f in dataclasses.fields(WalkOptions)} - set(WalkNumbers._fields)
     assert unused == {"ds_start", "near_turn"}  # Python's alone: the walk's start, its folds
     read = set(re.findall(r"settings\.(\w+)", walk_codegen._TEMPLATE.read_text()))
@@ -238,3 +245,22 @@ def test_a_bifurcation_that_cannot_be_located_is_marked_not_lost(
         assert near.frequency_tol_hz == pytest.approx(reach, rel=0.1)
         assert near.pa_frac_tol == 0.0
         assert "marked within one step" in near.summary()
+
+
+def test_both_engines_walk_alike_without_corners_and_with_the_plain_shrink():
+    # The fold curves' walk takes no corners and shrinks a sharp turn by `shrink` alone
+    # (WalkOptions.for_fold_curves); the compiled walk reads the same two switches. At
+    # 0.15 Q the switches change the walk (its points, against the default's), and both
+    # engines walk it alike.
+    from numerics import WalkOptions
+
+    plain = WalkOptions(corners=False, shrink_by_turn=False)
+    runs = {engine: continue_orbits(0.15, 250.0, 1800.0, engine=engine, options=plain,
+                                    steps_per_period=512)
+            for engine in ("python", "compiled")}
+    default = continue_orbits(0.15, 250.0, 1800.0, steps_per_period=512)
+    a, b = runs["python"].branches, runs["compiled"].branches
+    assert [x.frequency_hz.size for x in a] == [x.frequency_hz.size for x in b]
+    assert [x.frequency_hz.size for x in a] != [x.frequency_hz.size for x in default.branches]
+    for x, y in zip(runs["python"].bifurcations, runs["compiled"].bifurcations, strict=True):
+        assert x.kind == y.kind and abs(x.frequency_hz - y.frequency_hz) < 1e-6

@@ -59,7 +59,14 @@ from ..simulation.rk4 import check_model
 from .options import WalkOptions
 from .period_map import PeriodMap, Point
 from .walk import DEFAULTS as _CONTINUATION_DEFAULTS
-from .walk import LOCATE_TOL, Bifurcation, check_options, check_walk, continue_orbits
+from .walk import (
+    LOCATE_TOL,
+    Bifurcation,
+    arclength_step,
+    check_options,
+    check_walk,
+    continue_orbits,
+)
 
 __all__ = ["Cusp", "FoldCurve", "FoldCurves", "fold_curves", "DEFAULTS"]
 
@@ -446,6 +453,7 @@ class Walk:
         fmin, fmax, self.a_lo, self.a_hi = box
         self.f_lo, self.f_hi = fmin / fold_map.scale[2], fmax / fold_map.scale[2]
         self.ds_max, self.max_angle, self.max_points = ds_max, max_angle, max_points
+        self.options = fold_map.options.for_fold_curves()
         self.points: list[Point] = []
         self.tangents: list[np.ndarray] = []
         self.cusps: list[int] = []  # the indices of the cusps in ``points``
@@ -458,12 +466,12 @@ class Walk:
         along_a = direction * _E_A
         self.orientation = first.orientation(first.tangent(_E_A, 1.0) * direction) or 1.0
         self._keep(first, first.tangent(along_a, self.orientation))
-        ds = self.map.options.ds_start
+        ds = self.options.ds_start
         while len(self.points) < self.max_points:
             step = self._step(ds)
             if step is None:
                 _, _, f, a = self.map.physical(self.points[-1].z)
-                self._end(f"step below {self.map.options.ds_min:g} at f_e = {f:.6g} Hz, "
+                self._end(f"step below {self.options.ds_min:g} at f_e = {f:.6g} Hz, "
                           f"P_a = {a:.6g} Q: Newton does not converge there")
                 return
             point, t, ds = step
@@ -486,21 +494,13 @@ class Walk:
         return not (self.f_lo <= w[2] <= self.f_hi and self.a_lo <= w[3] <= self.a_hi)
 
     def _step(self, ds: float):
-        """One accepted step from the last point: (point, tangent, next ds), or None."""
-        z, t, options = self.points[-1].z, self.tangents[-1], self.map.options
-        while ds >= options.ds_min:
-            point = self.map.correct(z + ds * t, t, t @ z + ds)
-            if point is not None:
-                t_new = point.tangent(t, self.orientation)
-                # No corner is walked over (unlike ``continue_orbits``): past a corner of
-                # the piecewise smooth map the fold test g jumps, and walks that accept
-                # sharp turns over short steps were measured to crawl there (2000 points
-                # over 1 Hz at 0.065 Q, 1198 Hz) instead of getting through.
-                if np.arccos(np.clip(t_new @ t, -1.0, 1.0)) <= self.max_angle:
-                    grow = point.iterations <= options.easy_iterations
-                    return point, t_new, min(ds * options.grow, self.ds_max) if grow else ds
-            ds *= options.shrink
-        return None
+        """One accepted step from the last point: (point, tangent, next ds), or None. The
+        walks' one step routine (``walk.arclength_step``) with the fold curves' options
+        (``WalkOptions.for_fold_curves``: patient Newton, no corners)."""
+        step, _, _ = arclength_step(self.map, self.points[-1].z, self.tangents[-1], ds,
+                                    self.ds_max, self.max_angle, self.orientation,
+                                    self.options, None)
+        return step
 
     def _cusp(self, point: Point, t: np.ndarray) -> None:
         """Locate the cusp (t_a = 0) between the last point and ``point`` by Brent's method

@@ -175,21 +175,14 @@ class PeriodMap:
         residual = (np.array([ys[0], vs[0]]) - [y, v]) / self.scale[:2]
         return residual, jacobian, exact[0, :, :2].copy()
 
-    def correct_step(self, z: np.ndarray, row: np.ndarray, target: float) -> Point | None:
-        """``correct`` with the walk's contraction test (``WalkOptions.contraction``) and,
-        where ``WalkOptions.stop_by_estimate``, its stop by the estimated distance to the
-        root (``near_enough``): an arclength step of the walk, which a failure shortens."""
-        return self.correct(z, row, target, self.options.contraction,
-                            estimated=self.options.stop_by_estimate)
-
     def correct(self, z: np.ndarray, row: np.ndarray, target: float,
                 contraction: float = np.inf, estimated: bool = False) -> Point | None:
         """Newton on R(z) = 0 with the one extra equation row . z = target (the
         arclength or a fixed f); None when it does not converge, or when a Newton step is
-        more than ``contraction`` times the one before (the walk's steps pass
-        ``WalkOptions.contraction``; by default no such test). It stops when a step is
-        below ``WalkOptions.newton_tol``, or, ``estimated``, when the steps to come are
-        estimated to be (``near_enough``).
+        more than ``contraction`` times the one before (the walk's arclength steps pass
+        ``WalkOptions.contraction``, ``walk.arclength_step``; by default no such test).
+        It stops when a step is below ``WalkOptions.newton_tol``, or, ``estimated``, when
+        the steps to come are estimated to be (``near_enough``).
 
         Through loss of contact the map is only piecewise smooth, and at a corner the
         Jacobian of one side points past the root on the other: a step that does not

@@ -421,6 +421,55 @@ def orbit_scale(z: np.ndarray, ceiling: float, options: WalkOptions) -> float:
     return min(max(1.0, size), ceiling)
 
 
+def arclength_step(shoot: PeriodMap, z: np.ndarray, t: np.ndarray, ds: float,
+                   ds_max: float, max_angle: float, orientation: float, options: WalkOptions,
+                   resume: float | None):
+    """One accepted pseudo-arclength step from ``z`` along the unit tangent ``t``: the
+    step routine of every walk (``Walk`` in f_e or P_a, branch switching, the fold
+    curves' ``folds.Walk``), of which ``kernels.walk_template.walk_steps`` is the
+    compiled twin.
+
+    Newton corrects z + ds t on the plane t . (z' - z) = ds (with the options' contraction
+    test and stop), and the step is taken where the new tangent turned by at most
+    ``max_angle``; else it shrinks and is tried again. Returns ((point, tangent, next
+    ds) or None when it failed at every ds, the ds to go on with (or that it failed at:
+    below ``stall_ds`` if it began above, else below ``ds_min``), the step to resume
+    with after a corner, or None).
+    """
+    least = options.stall_ds if ds >= options.stall_ds else options.ds_min
+    corner = corner_step(z, ds_max, options) if options.corners else 0.0
+    while ds >= least:
+        point = shoot.correct(z + ds * t, t, t @ z + ds, options.contraction,
+                              estimated=options.stop_by_estimate)
+        t_new = None if point is None else point.tangent(t, orientation)
+        # No tangent, or one turned back below the stall's ds: a failed step.
+        if (point is not None and np.isfinite(t_new).all()
+                and not (ds < options.stall_ds and t_new @ t < 0.0)):
+            angle = np.arccos(np.clip(t_new @ t, -1.0, 1.0))
+            if angle <= max_angle:
+                # An easy step grows the next; so does a step shorter than corner_ds
+                # (Newton may stay slow near a corner however short the step): flat,
+                # not the corner's step, which took more evaluations (tuning log).
+                grow = point.iterations <= options.easy_iterations or (
+                    options.corners and ds < options.corner_ds)
+                ds = min(ds * options.grow if grow else ds,
+                         largest_step(point.z, angle, ds_max, options))
+                return (point, t_new, ds), ds, None
+            if ds < corner:
+                # The tangent turns as much over a step this short: a corner of the
+                # piecewise smooth map (a stage of a step crossing y = 0, Eq. 2.1),
+                # not a fold; walk on with the step taken before the corner.
+                resume = resume or ds
+                return (point, t_new, resume), resume, None
+            if resume is None:  # the step to come back to after a corner
+                resume = ds
+            ds *= (min(options.shrink, options.turn_share * max_angle / angle)
+                   if options.shrink_by_turn else options.shrink)
+            continue
+        ds *= options.corner_shrink if ds < corner else options.shrink
+    return None, ds, resume
+
+
 def count_kinds(bifurcations: list[Bifurcation]) -> str:
     """"N folds, M period doublings" of a list of bifurcations, for a summary."""
     counts = {k: sum(b.kind == k for b in bifurcations) for k in KINDS}
@@ -724,40 +773,12 @@ class Walk:
         self.tangents.append(t)
 
     def _step(self, ds: float):
-        """One accepted step from the last point: ((point, tangent, next ds), next ds), or
-        (None, the ds it failed at: below ``stall_ds`` if it began above, else below
-        ``ds_min``)."""
-        z, t, options = self.points[-1].z, self.tangents[-1], self.options
-        least = options.stall_ds if ds >= options.stall_ds else options.ds_min
-        corner = corner_step(z, self.ds_max, options)
-        while ds >= least:
-            point = self.shoot.correct_step(z + ds * t, t, t @ z + ds)
-            t_new = None if point is None else point.tangent(t, self.orientation)
-            # No tangent, or one turned back below the stall's ds: a failed step.
-            if (point is not None and np.isfinite(t_new).all()
-                    and not (ds < options.stall_ds and t_new @ t < 0.0)):
-                angle = np.arccos(np.clip(t_new @ t, -1.0, 1.0))
-                if angle <= self.max_angle:
-                    self.resume = None
-                    # An easy step grows the next; so does a step shorter than corner_ds
-                    # (Newton may stay slow near a corner however short the step): flat,
-                    # not the corner's step, which took more evaluations (tuning log).
-                    grow = point.iterations <= options.easy_iterations or ds < options.corner_ds
-                    ds = min(ds * options.grow if grow else ds,
-                             largest_step(point.z, angle, self.ds_max, options))
-                    return (point, t_new, ds), ds
-                if ds < corner:
-                    # The tangent turns as much over a step this short: a corner of the
-                    # piecewise smooth map (a stage of a step crossing y = 0, Eq. 2.1),
-                    # not a fold; walk on with the step taken before the corner.
-                    resume, self.resume = self.resume or ds, None
-                    return (point, t_new, resume), resume
-                if self.resume is None:  # the step to come back to after a corner
-                    self.resume = ds
-                ds *= min(options.shrink, options.turn_share * self.max_angle / angle)
-                continue
-            ds *= options.corner_shrink if ds < corner else options.shrink
-        return None, ds
+        """One accepted step from the last point (``arclength_step``): ((point, tangent,
+        next ds), next ds), or (None, the ds it failed at)."""
+        step, ds, self.resume = arclength_step(
+            self.shoot, self.points[-1].z, self.tangents[-1], ds, self.ds_max,
+            self.max_angle, self.orientation, self.options, self.resume)
+        return step, ds
 
     def _bifurcations(self, point: Point, t: np.ndarray,
                       defer_folds: bool = False) -> list[tuple[str, float]]:

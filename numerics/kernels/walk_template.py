@@ -3,7 +3,7 @@ after an import of the model's compiled kernel ``shoot_jacobian`` and of the ker
 ``copy_into``: arrays are copied in loops, which numba compiles in a fraction of the
 time that slice assignments take).
 
-``walk_steps`` repeats what ``continuation.walk._Walk._step`` and
+``walk_steps`` repeats what ``continuation.walk.arclength_step`` and
 ``continuation.period_map.PeriodMap.correct`` do in Python, step by step: the
 predictor along the tangent, Newton on the bordered system [R(z) = 0,
 t . (z - z_k) = ds] with its line search, the new tangent and the step control.
@@ -132,8 +132,8 @@ def correct(z0, row, target, scale, steps, period, drive, force_is_parameter, ot
             settings, z_out, jac_out, mono_out):
     """``PeriodMap.correct``: Newton on [R(z) = 0, row . z = target] from z0, with the
     same line search, and the contraction test and stop by ``near_enough`` as
-    ``settings`` say (the walk's steps: ``correct_step``'s); the iterations it took (0
-    when it does not converge), the point into z_out, jac_out, mono_out."""
+    ``settings`` say (those of ``continuation.walk.arclength_step``); the iterations it
+    took (0 when it does not converge), the point into z_out, jac_out, mono_out."""
     z = z0.copy()
     jac, mono = np.empty((2, 3)), np.empty((2, 2))
     j_trial, m_trial = np.empty((2, 3)), np.empty((2, 2))
@@ -249,7 +249,8 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
         # A step that began above the stall's ds hands back below it (Python tries a
         # step in f alone); one that began below it shrinks to the least ds.
         least = settings.stall_ds if ds >= settings.stall_ds else settings.ds_min
-        corner = corner_step(z, settings)  # below it a turn is a corner's
+        # Below it a turn is a corner's (none where the walk takes no corners).
+        corner = corner_step(z, settings) if settings.corners > 0.0 else 0.0
         while ds >= least:
             for i in range(3):
                 guess[i] = z[i] + ds * t[i]
@@ -264,7 +265,8 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
                 angle = math.acos(min(max(t_new @ t, -1.0), 1.0))
                 if angle <= settings.max_angle:
                     resume = -1.0
-                    grow = iterations <= settings.easy_iterations or ds < settings.corner_ds
+                    grow = iterations <= settings.easy_iterations or (
+                        settings.corners > 0.0 and ds < settings.corner_ds)
                     next_ds = min(ds * settings.grow if grow else ds,
                                   largest_step(z_new, angle, settings))
                     accepted = True
@@ -278,7 +280,11 @@ def walk_steps(z_last, t_last, mono_last, orientation, state, scale, steps, peri
                 if resume < 0.0:
                     resume = ds
                 # The tangent turned too far: shorter by the share of the turn allowed.
-                ds *= min(settings.shrink, settings.turn_share * settings.max_angle / angle)
+                if settings.shrink_by_turn > 0.0:
+                    ds *= min(settings.shrink,
+                              settings.turn_share * settings.max_angle / angle)
+                else:
+                    ds *= settings.shrink
                 continue
             ds *= settings.corner_shrink if ds < corner else settings.shrink
         state[1] = resume

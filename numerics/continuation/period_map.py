@@ -132,7 +132,7 @@ class PeriodMap:
 
     @cached_property
     def walker(self):
-        """The compiled walk of the model (``kernels.walk_codegen``: built once, some 5 s), or
+        """The compiled walk of the model (``kernels.walk_codegen``: built once, some 12 s), or
         None for ``engine="python"``, the reference: the walk steps in Python."""
         if self.engine == "python":
             return None

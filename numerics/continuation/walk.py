@@ -294,7 +294,7 @@ def continue_orbits(
     engine : {"auto", "compiled", "python"}
         The walk's steps (predictor, Newton, step control) in compiled code, handing
         back to Python only where a bifurcation is located or the band ends
-        ("compiled": built once per model, some 5 s), or step by step in Python (the
+        ("compiled": built once per model, some 12 s), or step by step in Python (the
         reference). "auto" (the default), as everywhere: the compiled route where it is
         built or builds within seconds, as the walk does; so "auto" compiles here.
         Both walk the same branch, to Newton's tolerance, but where the map's corners

@@ -1,6 +1,6 @@
 """The compiled continuation walk of a model: ``walk_template.py`` after an import of
 the model's kernels, written to the cache folder beside them and compiled by numba
-once (some 5 s: ``bench_continuation`` times it), then loaded from its cache. The
+once (some 12 s: ``bench_continuation`` times it), then loaded from its cache. The
 template copies arrays in loops (the kernels' ``copy_into``), not by slice assignment,
 which numba compiles through its broadcasting machinery: with those, 9.9 s (measured
 once by hand, 2026-11-24, against 4.6 s).

@@ -31,3 +31,38 @@ def _digest(result) -> str:
 def test_the_fig2_fig3_job_is_pinned_to_the_bit():
     job = sweep(np.linspace(*PAPER_BAND_HZ, 311), PAPER_PANEL_FRACTIONS, engine="python")
     assert _digest(job) == FIG2_FIG3_JOB
+
+
+#: SHA-256 of ``make paper``'s claims (id, verdict, the numbers measured; every float to
+#: 10 significant digits, so that the two routes of the sweep, which agree to a few
+#: ulp, give one digest whichever the cache holds), keys sorted.
+PAPER_CLAIMS = "50d76df8b5fd7cd5f81f9ada8f8b7beacdacb512dc11cb6feebb7c73e6f1fbe9"
+
+
+def _rounded(value):
+    if isinstance(value, float):
+        return float(f"{value:.10g}")
+    if isinstance(value, dict):
+        return {key: _rounded(item) for key, item in value.items()}
+    if isinstance(value, list):
+        return [_rounded(item) for item in value]
+    return value
+
+
+def claims_digest(report: dict) -> str:
+    claims = [{"id": c["id"], "passed": c["passed"], "measured": _rounded(c["measured"])}
+              for c in report["claims"]]
+    text = json.dumps(claims, sort_keys=True, allow_nan=True)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def test_the_paper_claims_are_pinned(tmp_path):
+    # `make paper` whole (some 15 s once the kernels are cached): its eleven claims and
+    # every number they measured.
+    import subprocess
+    import sys
+
+    subprocess.run([sys.executable, "-m", "paper_checks", "--out", str(tmp_path), "--quiet"],
+                   check=True, capture_output=True)
+    report = json.loads((tmp_path / "report.json").read_text(encoding="utf-8"))
+    assert claims_digest(report) == PAPER_CLAIMS

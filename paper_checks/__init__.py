@@ -3,7 +3,7 @@
 ``python -m paper_checks [--quick] [--out DIR]`` writes DIR/report.md and
 DIR/report.json (``make paper``). The paper's figures are scenes,
 ``paper_checks/scenes/*.toml``, run by ``numerics.scenes.run_scene``; importing
-``paper_checks._work_precision`` (as ``PaperScene``'s module does) registers the scene
+``paper_checks.work_precision`` (as ``PaperScene``'s module does) registers the scene
 study ``work_precision``.
 """
 
@@ -11,8 +11,8 @@ from perturb.common import lazy_names
 
 # Imported at first use (PEP 562), so that `python -m paper_checks` imports them after
 # it has turned the garbage collector off (paper_checks/__main__.py).
-_LAZY = {"Claim": "._claims", "CHECKS": "._registry", "run_claims": "._registry",
-         "PaperScene": "._scene"}
+_LAZY = {"Claim": ".claims", "CHECKS": ".registry", "run_claims": ".registry",
+         "PaperScene": ".scene"}
 
 __all__ = ["CHECKS", "Claim", "PaperScene", "run_claims"]
 

@@ -53,7 +53,7 @@ def main(argv: list[str] | None = None) -> int:
     # 11.4 and 12.8 s for one process on the 2-core machine, second runs, medians of 3
     # and 4, when other work left about one processor idle (load about 1); at a load of
     # 2 they gained nothing (12.4 s against 11.8 s, median of 4). 2026-11-23, before
-    # the scenes became one task each (paper_checks/_scene.py); make bench prints both.
+    # the scenes became one task each (paper_checks/scene.py); make bench prints both.
     parser.add_argument("--jobs", type=int_at_least(1), default=None,
                         help="worker processes that run the scenes and draw their figures "
                              "(default: one per processor; 1: all in this process)")
@@ -71,7 +71,7 @@ def _run(args: argparse.Namespace) -> int:
 
 def _check(args: argparse.Namespace) -> int:
     out = Path(args.out)  # checked (and created) by its type, before any work
-    from ._report import write_report  # the checks, the scenes and what they import
+    from .report import write_report
 
     cached = _kernel_files()
     report = write_report(out, quick=args.quick, started=_START,

@@ -290,7 +290,7 @@ def test_cli_bad_input_is_an_argparse_error(options, named, capsys):
 def test_comparison_figure_draws_the_backbone_over_the_curves_shown():
     from types import SimpleNamespace
 
-    from numerics.plots._compare import _covering_backbone
+    from numerics.plots.compare import _covering_backbone
 
     # Curves from 20 nm up to a bouncing branch at 9 um (NaN: a point that did not settle).
     curves = [SimpleNamespace(app_m=np.array([2e-8, np.nan, 9e-6])),

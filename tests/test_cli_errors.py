@@ -163,17 +163,17 @@ def test_a_scene_never_writes_through_a_symlink_in_its_folder(tmp_path):
 
 
 def test_a_figure_that_fails_to_draw_leaves_nothing(tmp_path, monkeypatch):
-    from numerics.plots import _figure
+    from numerics.plots import figure as figure_module
 
     def fails(figure, path):
         Path(path).write_bytes(b"half a")
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(_figure, "_write_png", fails)
+    monkeypatch.setattr(figure_module, "_write_png", fails)
     import matplotlib.figure
 
     with pytest.raises(OSError, match="No space"):
-        _figure.finish(matplotlib.figure.Figure(), tmp_path / "fig.png")
+        figure_module.finish(matplotlib.figure.Figure(), tmp_path / "fig.png")
     assert not list(tmp_path.iterdir())
 
 
@@ -324,13 +324,13 @@ def test_a_scene_past_the_ranges_is_refused_unless_unchecked(tmp_path):
 ])
 def test_paper_checks_says_a_failure_in_one_line(tmp_path, monkeypatch, capsys, error, code,
                                                  said):
-    import paper_checks._report
+    import paper_checks.report
     from paper_checks.__main__ import main
 
     def fail(*args, **kwargs):
         raise error
 
-    monkeypatch.setattr(paper_checks._report, "write_report", fail)
+    monkeypatch.setattr(paper_checks.report, "write_report", fail)
     assert main(["--quick", "--out", str(tmp_path / "out")]) == code
     err = capsys.readouterr().err
     assert said in err and "Traceback" not in err and len(err.strip().splitlines()) == 1

@@ -35,7 +35,7 @@ def contact(m2: float, l: float):
                             "h_n": PAPER.h_n * Y0**PAPER.l / Y0**l})
 
 
-def _bouncing_start(model, f_e, p_a):
+def bouncing_start(model, f_e, p_a):
     """A state on a bouncing orbit: 60 periods from a flight 2 um off the slideway."""
     start = simulate(f_e, p_a, periods=60, steps_per_period=4096, model=model,
                      y_init_m=-2e-6, record=("final", "minmax"))
@@ -46,7 +46,7 @@ def _bouncing_start(model, f_e, p_a):
 def _errors(model, f_e, frac, steps):
     """|y - y_reference| / y0 after 3 periods from a bouncing state, at each N."""
     p_a = frac * model.parameters.Q_n
-    y, v = _bouncing_start(model, f_e, p_a)
+    y, v = bouncing_start(model, f_e, p_a)
     _, reference = reference_last_period(model, f_e, p_a, y, v, 3, rtol=1e-13, samples=2)
     out = []
     for n in steps:
@@ -119,7 +119,7 @@ def test_the_monodromy_is_the_derivative_of_the_split_steps(m2, l):
     kernels = compiled_kernels(model)
     f_e, steps = 490.0, 512
     p_a = 0.5 * model.parameters.Q_n
-    y, v = _bouncing_start(model, f_e, p_a)
+    y, v = bouncing_start(model, f_e, p_a)
     drive = np.cos(np.pi * np.arange(2 * steps + 1) / steps)
     dt = np.array([1.0 / (steps * f_e)])
 
@@ -250,7 +250,7 @@ def test_the_derivative_in_the_parameter_is_that_of_the_split_steps(by_force):
     kernels = compiled_kernels(model)
     f_e, steps = 490.0, 512
     p_a = 0.5 * model.parameters.Q_n
-    y, v = _bouncing_start(model, f_e, p_a)
+    y, v = bouncing_start(model, f_e, p_a)
     drive = np.cos(np.pi * np.arange(2 * steps + 1) / steps)
     dt = 1.0 / (steps * f_e)
 

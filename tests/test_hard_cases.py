@@ -344,7 +344,7 @@ def test_orbits_of_every_period_up_to_8_are_found():
         assert abs(run.app_m[0] / attractor.app_m - 1) < 1e-4
 
 
-def _largest_lyapunov_per_period(frequency_hz, p_a_n, y, v, steps, periods=1000, angle=0.0):
+def largest_lyapunov_per_period(frequency_hz, p_a_n, y, v, steps, periods=1000, angle=0.0):
     """Two neighbouring trajectories, renormalised every 5 periods (tests only); the first
     apart by 1e-9 y0 along ``angle`` in the plane of (y, v / omega0)."""
     from numerics import simulate
@@ -373,7 +373,7 @@ def test_a_chaotic_response_is_not_settled():
     assert not census.attractors and census.not_settled_fraction == 1.0
     lanes = census.lanes
     assert "not settled within" in lanes.message[0]
-    rate = _largest_lyapunov_per_period(1400.0, lanes.p_a_n[0], lanes.y_start_m[0],
+    rate = largest_lyapunov_per_period(1400.0, lanes.p_a_n[0], lanes.y_start_m[0],
                                         lanes.v_start_m_s[0], int(lanes.steps_used[0]))
     assert rate > 0.1, rate
 
@@ -477,7 +477,7 @@ def test_chaos_coexists_with_a_periodic_attractor_and_the_census_keeps_it():
             "v_over_omega0_y0": (-3.0, 0.0, 3.0, 10.3, 12.5)}
     census = attractor_census(f_e, 1.5, grid=grid)
     lanes = census.lanes
-    rates = np.array([_largest_lyapunov_per_period(f_e, lanes.p_a_n[i], lanes.y_start_m[i],
+    rates = np.array([largest_lyapunov_per_period(f_e, lanes.p_a_n[i], lanes.y_start_m[i],
                                                    lanes.v_start_m_s[i], int(lanes.steps_used[i]))
                       for i in range(lanes.status.size)])
     chaotic = lanes.status == Status.NOT_SETTLED

@@ -18,7 +18,7 @@ from numerics import attractor_census, classify_motion, largest_lyapunov, steady
 from numerics.steady.lyapunov import INITIAL_ANGLE, VERDICTS
 from perturb import PAPER, ContactModel, eq26_numbers
 from perturb.common import GLOSSARY, Status, load
-from tests.test_hard_cases import _largest_lyapunov_per_period
+from tests.test_hard_cases import largest_lyapunov_per_period
 
 CHAOS_F_E, CHAOS_PA = 1200.0, 1.5
 #: tests/test_hard_cases.py's grid at the chaotic point: 29 chaotic lanes, 3 on a
@@ -139,7 +139,7 @@ def test_the_tangent_agrees_with_two_neighbouring_trajectories(chaos_census):
                            lanes.v_start_m_s[chosen], steps_per_period=512, periods=1000,
                            discard_periods=0, blocks=8)
     for j, i in enumerate(chosen):
-        two = _largest_lyapunov_per_period(CHAOS_F_E, lanes.p_a_n[i], lanes.y_start_m[i],
+        two = largest_lyapunov_per_period(CHAOS_F_E, lanes.p_a_n[i], lanes.y_start_m[i],
                                            lanes.v_start_m_s[i], 512, periods=1000,
                                            angle=INITIAL_ANGLE)
         assert abs(run.exponent_per_period[j] - two) < 5e-5, (i, run.exponent_per_period[j], two)

@@ -12,9 +12,9 @@ import pytest
 
 from numerics import sweep
 from numerics.scenes import run_scene
-from paper_checks import _scene
-from paper_checks._forked import ForkedJobs, forks
-from paper_checks._scene import (
+from paper_checks import scene as scene_module
+from paper_checks.forked import ForkedJobs, forks
+from paper_checks.scene import (
     CENSUS_SCENES,
     COMPARED_FRACTIONS,
     KERNEL_FREE,
@@ -124,7 +124,7 @@ def test_the_fig2_fig3_scene_is_the_papers_sweep_bit_for_bit():
 _NO_KERNELS = """
 import numerics.kernels.codegen as codegen, numerics.kernels.walk_codegen as walk_codegen
 from numerics.scenes import run_scene
-from paper_checks._scene import KERNEL_FREE, paper_scene
+from paper_checks.scene import KERNEL_FREE, paper_scene
 
 class Refused(Exception):
     pass
@@ -212,7 +212,7 @@ def test_with_the_kernels_built_the_kernel_free_scenes_run_forked_not_in_the_poo
     # The kernels compiled already, start() runs KERNEL_FREE's scenes in a process forked
     # before it loads them (no kernel to load here), none in the workers; they give what
     # they give here, figures byte for byte.
-    monkeypatch.setattr(_scene, "KERNEL_MODELS", ())
+    monkeypatch.setattr(scene_module, "KERNEL_MODELS", ())
     here = PaperScene(quick=True, out=tmp_path / "here")
     there = PaperScene(quick=True, out=tmp_path / "there")
     with worker_pool(2) as pool:
@@ -232,7 +232,7 @@ def test_importing_the_package_or_its_command_leaves_the_heavy_modules_and_the_g
     # checks (paper_checks/__main__.py): the package imports them at first use, and the
     # command's module turns it off only when run as the command.
     code = ("import gc, sys, paper_checks, paper_checks.__main__; "
-            "heavy = [m for m in ('sympy', 'matplotlib', 'numba', 'paper_checks._scene') "
+            "heavy = [m for m in ('sympy', 'matplotlib', 'numba', 'paper_checks.scene') "
             "if m in sys.modules]; assert not heavy and gc.isenabled(), heavy; "
             "assert paper_checks.PaperScene.__name__ == 'PaperScene'")
     subprocess.run([sys.executable, "-c", code], check=True)
@@ -242,10 +242,10 @@ def test_the_work_precision_study_measured_in_parts_is_the_study_measured_whole(
     # `make paper` measures each method in a job of its own (_scene.WORK_PARTS) and
     # merges them: the same methods in the same order, with the same settings and
     # errors (the errors are deterministic; the times are not).
-    from paper_checks._work_precision import METHODS, WorkPrecision, work_precision
+    from paper_checks.work_precision import METHODS, WorkPrecision, work_precision
 
     whole = work_precision(quick=True)
-    parts = [work_precision(quick=True, methods=(name,)) for name in _scene.WORK_PARTS]
+    parts = [work_precision(quick=True, methods=(name,)) for name in scene_module.WORK_PARTS]
     merged = WorkPrecision.merged(parts)
     assert [m.name for m in merged.methods] == [m.name for m in whole.methods] == list(METHODS)
     for got, want in zip(merged.methods, whole.methods):
@@ -261,28 +261,29 @@ def test_the_work_precision_study_measured_in_parts_is_the_study_measured_whole(
 def test_the_report_merges_the_work_precision_parts_the_workers_measured(tmp_path):
     scene = PaperScene(quick=True, out=tmp_path)
     with worker_pool(2) as pool:
-        scene.start(pool, names=[_scene.WORK_PRECISION_SCENE])
-        assert len(scene._started[_scene.WORK_PRECISION_SCENE]) == len(_scene.WORK_PARTS)
+        scene.start(pool, names=[scene_module.WORK_PRECISION_SCENE])
+        parts = scene._started[scene_module.WORK_PRECISION_SCENE]
+        assert len(parts) == len(scene_module.WORK_PARTS)
         work = scene.work_precision
-    run = scene.runs[_scene.WORK_PRECISION_SCENE]
+    run = scene.runs[scene_module.WORK_PRECISION_SCENE]
     assert [m.name for m in work.methods] == ["RK4", "series", "DOP853"]
     assert run.settings["options"]["method"] == "all"
-    assert run.files == [_scene.WORK_PRECISION_FIGURE]
-    assert (tmp_path / _scene.WORK_PRECISION_FIGURE).stat().st_size > 10_000
+    assert run.files == [scene_module.WORK_PRECISION_FIGURE]
+    assert (tmp_path / scene_module.WORK_PRECISION_FIGURE).stat().st_size > 10_000
 
 
 def test_a_work_precision_part_that_fails_raises_where_the_study_is_asked_for(
         tmp_path, monkeypatch):
-    from paper_checks import _work_precision
+    from paper_checks import work_precision as work_precision_module
 
     def broken(*args):  # _series(quick, truncation)
         raise RuntimeError("the series part broke")
 
-    monkeypatch.setattr(_work_precision, "_series", broken)  # the forked workers too
+    monkeypatch.setattr(work_precision_module, "_series", broken)  # the forked workers too
     scene = PaperScene(quick=True, out=tmp_path)
     with worker_pool(2) as pool:
-        scene.start(pool, names=[_scene.WORK_PRECISION_SCENE])
+        scene.start(pool, names=[scene_module.WORK_PRECISION_SCENE])
         with pytest.raises(RuntimeError, match="the series part broke"):
             assert scene.work_precision is None  # never reached: the property raises
     assert "accuracy against time" not in scene.timings
-    assert not (tmp_path / _scene.WORK_PRECISION_FIGURE).exists()
+    assert not (tmp_path / scene_module.WORK_PRECISION_FIGURE).exists()

@@ -11,18 +11,18 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from numerics import exact_backbone, hysteresis_loop, natural_frequency_vs_height, sweep
+from numerics.plots import figure as figure_module
 from numerics.plots import (
-    _figure,
-    _sweep,
     plot_app,
     plot_backbone,
     plot_extrema,
     plot_hysteresis,
     plot_natural_frequency,
 )
-from numerics.plots._figure import DPI
-from paper_checks import _scene
-from paper_checks._scene import PaperScene, worker_pool
+from numerics.plots import sweep as sweep_module
+from numerics.plots.figure import DPI
+from paper_checks import scene as scene_module
+from paper_checks.scene import PaperScene, worker_pool
 
 
 def is_png(path) -> bool:
@@ -105,10 +105,11 @@ def test_the_layout_shortcuts_leave_the_files_unchanged(tmp_path, monkeypatch):
     for plot in (plot_app, plot_extrema):
         plot(result, tmp_path / "shortcuts.png")
         with monkeypatch.context() as patch:
-            patch.setattr(_sweep, "panel_title", lambda ax, text, **kw: ax.set_title(text, **kw))
-            patch.setattr(_figure, "_spines_out_of_layout", lambda figure: None)
-            patch.setattr(_figure, "_minor_log_ticks_in_view", lambda figure: None)
-            patch.setattr(_figure, "_share_mathtext", lambda renderer: None)
+            patch.setattr(sweep_module, "panel_title",
+                          lambda ax, text, **kw: ax.set_title(text, **kw))
+            patch.setattr(figure_module, "_spines_out_of_layout", lambda figure: None)
+            patch.setattr(figure_module, "_minor_log_ticks_in_view", lambda figure: None)
+            patch.setattr(figure_module, "_share_mathtext", lambda renderer: None)
             plot(result, tmp_path / "plain.png")
         assert (tmp_path / "shortcuts.png").read_bytes() == (tmp_path / "plain.png").read_bytes()
 
@@ -130,7 +131,7 @@ def test_a_figure_drawn_again_parses_no_label_again(tmp_path, monkeypatch):
 
     new_parses()  # the labels this figure draws, parsed here or by an earlier test
     assert new_parses() == 0
-    monkeypatch.setattr(_figure, "_share_mathtext", lambda renderer: None)
+    monkeypatch.setattr(figure_module, "_share_mathtext", lambda renderer: None)
     assert new_parses() > 0
 
 
@@ -201,7 +202,7 @@ def test_a_fixed_layout_keeps_every_label_in_the_figure_and_off_the_others(
 def test_the_fixed_layout_check_fails_where_the_labels_get_no_room(bouncing_sweep,
                                                                    monkeypatch):
     # Negative control of the test above: the y labels given a tenth of an inch.
-    monkeypatch.setattr(_figure, "Y_LABEL_ROOM_IN", 0.1)
+    monkeypatch.setattr(figure_module, "Y_LABEL_ROOM_IN", 0.1)
     found = _overlaps(plot_extrema(bouncing_sweep))
     # The left column's y labels cross the figure's edge (axes 2: P_a = 0.5 Q, labels to
     # -20000), the right column's reach into the left one's panels.
@@ -216,7 +217,7 @@ def test_a_fixed_layout_places_the_axes_as_constrained_layout_did(bouncing_sweep
     # 2026-11-23. (The heights are constants measured on the report's figures; here the
     # title, placed by hand, is out of constrained layout's reach.)
     fixed = [ax.get_position().bounds for ax in plot_extrema(bouncing_sweep).axes]
-    monkeypatch.setattr(_sweep, "fixed_layout",
+    monkeypatch.setattr(sweep_module, "fixed_layout",
                         lambda figure, grid, **margins: figure.set_layout_engine("constrained"))
     figure = plot_extrema(bouncing_sweep)
     FigureCanvasAgg(figure).draw()
@@ -249,8 +250,8 @@ def test_a_scene_that_fails_in_a_worker_is_raised_where_its_result_is_asked_for(
     def fail(scene, out):
         raise RuntimeError(f"cannot run {scene.title[:6]}")
 
-    monkeypatch.setattr(_scene, "KERNEL_MODELS", ())
-    monkeypatch.setattr(_scene, "run_scene", fail)
+    monkeypatch.setattr(scene_module, "KERNEL_MODELS", ())
+    monkeypatch.setattr(scene_module, "run_scene", fail)
     scene = PaperScene(quick=True, out=tmp_path)
     with pytest.raises(RuntimeError, match="cannot run Fig. 2"), worker_pool(2) as pool:
         scene.start(pool)

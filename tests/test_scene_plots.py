@@ -16,8 +16,8 @@ from numerics.plots import (
     plot_spectrum,
     plot_time_history,
 )
-from numerics.plots._animation import _Run, _SliderScene, _SweepScene, jumps
-from numerics.plots._observables import out_of_contact
+from numerics.plots.animation import _Run, _SliderScene, _SweepScene, jumps
+from numerics.plots.observables import out_of_contact
 
 F_E = 1500.0
 Y0 = 225e-9

@@ -10,8 +10,8 @@ import pytest
 
 from numerics import attractor_census, simulate, sweep
 from numerics.scenes import SceneError, parse_scene, read_scene, run_scene
-from numerics.scenes import _auto as auto
-from numerics.scenes._studies import model_of, run_study
+from numerics.scenes import auto as auto
+from numerics.scenes.studies import model_of, run_study
 from numerics.steady.census import DEFAULT_GRID
 from perturb import (
     EQ_2_6,
@@ -412,7 +412,7 @@ def test_the_series_is_not_the_route_where_the_full_model_finds_another_orbit():
     # Sought from the series' own orbit at each point instead, the full model settles
     # on it everywhere, within the tolerance (measured 2.4e-7 of App): that check alone
     # took this series as the route.
-    from numerics.scenes._series_route import series_study
+    from numerics.scenes.series_route import series_study
     from numerics.steady.orbits import Orbits
     from numerics.steady.shooting import steady_states
 

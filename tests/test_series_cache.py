@@ -72,8 +72,8 @@ def test_the_reports_warm_up_writes_every_order_and_keeps_none_in_memory(empty_c
     # paper_checks derives the formulas in a worker while the kernels compile; the
     # work-precision study may run next in that worker and times each order's first
     # call, which must then be the import from the disk, not a look-up in memory.
-    from paper_checks._scene import _derive_formulas
-    from paper_checks._work_precision import ERROR_ORDERS, SERIES_ORDERS
+    from paper_checks.scene import _derive_formulas
+    from paper_checks.work_precision import ERROR_ORDERS, SERIES_ORDERS
 
     _derive_formulas()
     assert compile_series.cache_info().currsize == 0
@@ -96,7 +96,7 @@ def test_formulas_that_cannot_be_written_are_still_given(empty_cache, monkeypatc
 def test_the_work_precision_study_times_first_calls_and_says_where_from(empty_cache):
     # Another scene may have filled this worker's memory (the comparison evaluates the
     # same orders): the study empties it, then each order is imported from the disk.
-    from paper_checks._work_precision import _compile_orders
+    from paper_checks.work_precision import _compile_orders
 
     for order in range(3):
         compile_series(order)  # on the disk and in memory

@@ -145,7 +145,7 @@ def test_failed_points_match_the_python_sweep():
 
 
 def test_continuing_from_given_orbits_matches_the_python_sweep():
-    # numerics.scenes._auto continues windows of a sweep from a settled orbit (start=).
+    # numerics.scenes.auto continues windows of a sweep from a settled orbit (start=).
     model = ContactModel()
     first = sweep([1300.0], [0.05, 0.2], direction="up")
     start = first.runs[0].stack([r.take([0]) for r in first.runs])

@@ -6,11 +6,11 @@ the tolerance and the outputs; ``run_scene`` runs it (``python -m numerics scene
 See ``docs/scenes.md`` for the keys.
 """
 
-from ._auto import Selection, observable_change, select_effects
-from ._observables import contact_fraction, harmonic_amplitudes
-from ._result import SceneRun
-from ._run import run_scene
-from ._schema import (
+from .auto import Selection, observable_change, select_effects
+from .observables import contact_fraction, harmonic_amplitudes
+from .result import SceneRun
+from .run import run_scene
+from .schema import (
     NAMED_EFFECTS,
     OBSERVABLES,
     STUDIES,
@@ -21,7 +21,7 @@ from ._schema import (
     parse_scene,
     read_scene,
 )
-from ._studies import StudyRun, register_study
+from .studies import StudyRun, register_study
 
 __all__ = [
     "NAMED_EFFECTS",

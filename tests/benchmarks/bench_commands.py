@@ -58,7 +58,7 @@ _WHICH_MODULES = (
 )
 
 
-def _old_tree(folder: Path, commit: str = BASELINE_COMMIT) -> Path | None:
+def old_tree(folder: Path, commit: str = BASELINE_COMMIT) -> Path | None:
     """The tree of ``commit`` in ``folder``, or None without git or the commit."""
     try:
         archive = subprocess.run(["git", "archive", commit], cwd=ROOT, check=True,
@@ -70,7 +70,7 @@ def _old_tree(folder: Path, commit: str = BASELINE_COMMIT) -> Path | None:
     return folder
 
 
-def _cpu_of_children() -> float:
+def cpu_of_children() -> float:
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
     return usage.ru_utime + usage.ru_stime
 
@@ -82,10 +82,10 @@ def _runner(tree: Path):
     env = os.environ | {"PYTHONPATH": str(tree)}
 
     def run(args: list[str]) -> tuple[float, float]:
-        cpu, start = _cpu_of_children(), time.perf_counter()
+        cpu, start = cpu_of_children(), time.perf_counter()
         subprocess.run([sys.executable, *args], cwd=tree, env=env, check=True,
                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        return time.perf_counter() - start, _cpu_of_children() - cpu
+        return time.perf_counter() - start, cpu_of_children() - cpu
 
     return run
 
@@ -109,7 +109,7 @@ def _medians(runs: dict, args: list[str]) -> dict[str, tuple[float, float]]:
 
 def main() -> None:
     with tempfile.TemporaryDirectory() as folder:
-        old = _old_tree(Path(folder))
+        old = old_tree(Path(folder))
         runs = {"new": _runner(ROOT)}
         if old is not None:
             runs["old"] = _runner(old)

@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from ._timing import header, row
-from .bench_commands import ROOT, _old_tree
+from .bench_commands import ROOT, old_tree
 
 #: The last commit whose steps integrate straight over y = 0.
 ROUTE_BEFORE = "472fbcb"
@@ -111,13 +111,13 @@ def _bouncing_starts() -> list[tuple]:
     periods from a flight 2 um up, at 4096 steps) and DOP853's y after 3 periods."""
     from numerics.simulation.reference import reference_last_period
     from perturb import PAPER, ContactModel
-    from tests.test_events import _bouncing_start, contact
+    from tests.test_events import bouncing_start, contact
 
     starts = []
     for _, m2, l, f_e in CONTACTS:
         model = ContactModel(contact(m2, l))
         p_a = 0.5 * PAPER.Q_n
-        y, v = _bouncing_start(model, f_e, p_a)
+        y, v = bouncing_start(model, f_e, p_a)
         _, reference = reference_last_period(model, f_e, p_a, y, v, 3, rtol=1e-13, samples=2)
         starts.append((m2, l, f_e, y, v, float(reference[-1])))
     return starts
@@ -132,7 +132,7 @@ def _least_steps(errors: list[float], accuracy: float) -> float:
 def main() -> None:
     with tempfile.TemporaryDirectory() as folder:
         folder = Path(folder)
-        before = _old_tree(folder / "before", ROUTE_BEFORE)
+        before = old_tree(folder / "before", ROUTE_BEFORE)
         if before is None:
             print(f"\n(no git or no commit {ROUTE_BEFORE}: the events benchmark needs the "
                   "route before them)")

@@ -20,7 +20,7 @@ from perturb import PAPER, ContactModel, eq26_numbers
 
 from ._textbook import PARAMETERS, textbook_rk4
 from ._timing import header, median_time, row
-from .bench_commands import ROOT, _old_tree
+from .bench_commands import ROOT, old_tree
 
 LANES, STEPS, PERIODS = 1000, 128, 40
 
@@ -105,7 +105,7 @@ def against_route_before() -> dict[str, tuple[float, float]] | None:
     names = ("first simulate(), empty cache [s]", "shoot_periods, one lane [ns/lane-step]",
              "shoot_periods, 64 lanes [ns/lane-step]")
     with tempfile.TemporaryDirectory() as folder:
-        before = _old_tree(Path(folder) / "tree", ROUTE_BEFORE)
+        before = old_tree(Path(folder) / "tree", ROUTE_BEFORE)
         if before is None:
             return None
         runs: dict[Path, list[list[float]]] = {ROOT: [], before: []}

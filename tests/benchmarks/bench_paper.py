@@ -40,7 +40,7 @@ from pathlib import Path
 from unittest import mock
 
 from ._timing import header, row
-from .bench_commands import BASELINE_COMMIT, ROOT, _cpu_of_children, _old_tree
+from .bench_commands import BASELINE_COMMIT, ROOT, cpu_of_children, old_tree
 
 GOALS = {"cold": 12.0, "warm": 5.0}  # issue 12 [s]
 REPEATS = 3
@@ -63,9 +63,14 @@ from pathlib import Path
 
 import numerics.plots as plots
 from numerics.scenes import run_scene
-from paper_checks._figures import plot_work_precision
-from paper_checks._scene import SCENES, paper_scene
-from paper_checks._work_precision import WorkPrecision
+try:
+    from paper_checks.figures import plot_work_precision
+    from paper_checks.scene import SCENES, paper_scene
+    from paper_checks.work_precision import WorkPrecision
+except ImportError:  # a route's tree from before its modules had public names
+    from paper_checks._figures import plot_work_precision
+    from paper_checks._scene import SCENES, paper_scene
+    from paper_checks._work_precision import WorkPrecision
 
 repeats = int(sys.argv[1])
 calls = []  # (draw, args, kwargs) of every figure the scenes drew
@@ -101,10 +106,10 @@ print(json.dumps(seconds))
 def _paper(tree: Path, cache: Path, out: Path, *args: str) -> tuple[float, float]:
     """Wall time and CPU time (with the worker processes) of `python -m paper_checks`."""
     env = os.environ | {"PYTHONPATH": str(tree), "CONTACT_RESONANCES_CACHE": str(cache)}
-    cpu, start = _cpu_of_children(), time.perf_counter()
+    cpu, start = cpu_of_children(), time.perf_counter()
     subprocess.run([sys.executable, "-m", "paper_checks", "--out", str(out), "--quiet", *args],
                    cwd=tree, env=env, check=True, capture_output=True)
-    return time.perf_counter() - start, _cpu_of_children() - cpu
+    return time.perf_counter() - start, cpu_of_children() - cpu
 
 
 def _drawing(tree: Path, cache: Path) -> dict[str, list[float]]:
@@ -146,35 +151,35 @@ def _whole_command(trees: dict[str, Path], folder: Path) -> tuple[dict, dict[str
 
 @contextmanager
 def _constrained_layout():
-    from numerics.plots import _sweep
+    from numerics.plots import sweep
 
-    with mock.patch.object(_sweep, "fixed_layout", lambda figure, grid, **margins:
+    with mock.patch.object(sweep, "fixed_layout", lambda figure, grid, **margins:
                            figure.set_layout_engine("constrained")):
         yield
 
 
 @contextmanager
 def _titles_by_matplotlib():
-    from numerics.plots import _sweep
+    from numerics.plots import sweep
 
-    with mock.patch.object(_sweep, "panel_title",
+    with mock.patch.object(sweep, "panel_title",
                            lambda ax, text, **kwargs: ax.set_title(text, **kwargs)):
         yield
 
 
 @contextmanager
 def _every_spine_in_layout():
-    from numerics.plots import _figure
+    from numerics.plots import figure as figure_module
 
-    with mock.patch.object(_figure, "_spines_out_of_layout", lambda figure: None):
+    with mock.patch.object(figure_module, "_spines_out_of_layout", lambda figure: None):
         yield
 
 
 @contextmanager
 def _every_minor_tick():
-    from numerics.plots import _figure
+    from numerics.plots import figure as figure_module
 
-    with mock.patch.object(_figure, "_minor_log_ticks_in_view", lambda figure: None):
+    with mock.patch.object(figure_module, "_minor_log_ticks_in_view", lambda figure: None):
         yield
 
 
@@ -182,21 +187,21 @@ def _every_minor_tick():
 def _parser_per_renderer():
     from matplotlib.backends.backend_agg import RendererAgg
 
-    from numerics.plots import _figure
+    from numerics.plots import figure as figure_module
 
     # As matplotlib does: a renderer of its own, and so a parser, to measure each axis.
-    with mock.patch.object(_figure, "_share_mathtext", lambda renderer: None), \
-            mock.patch.object(_figure, "_measuring_renderer",
-                              lambda: RendererAgg(1, 1, _figure.DPI)):
+    with mock.patch.object(figure_module, "_share_mathtext", lambda renderer: None), \
+            mock.patch.object(figure_module, "_measuring_renderer",
+                              lambda: RendererAgg(1, 1, figure_module.DPI)):
         yield
 
 
 @contextmanager
 def _savefig():
-    from numerics.plots import _figure
+    from numerics.plots import figure as figure_module
 
-    with mock.patch.object(_figure, "_write_png",
-                           lambda figure, path: figure.savefig(path, dpi=_figure.DPI)):
+    with mock.patch.object(figure_module, "_write_png",
+                           lambda figure, path: figure.savefig(path, dpi=figure_module.DPI)):
         yield
 
 
@@ -214,7 +219,7 @@ def _each_change(folder: Path) -> dict[str, float]:
     """{variant: median CPU seconds of plot_app on the paper's Fig. 2 sweep}."""
     from numerics.plots import plot_app
     from numerics.scenes import run_scene
-    from paper_checks._scene import paper_scene
+    from paper_checks.scene import paper_scene
 
     result = run_scene(paper_scene("fig2-fig3.toml")).outcomes[0]
     variants = {"as drawn": (), **UNDONE}
@@ -238,12 +243,14 @@ _START_OF_COMMAND = r"""
 import gc, sys, time
 if sys.argv[1] == "off":
     gc.disable()
-import paper_checks._report
 try:
+    import paper_checks.report
     from numerics.kernels import compiled_kernels
-except ImportError:  # a route's tree from before the kernels had their own folder
+    from paper_checks.scene import KERNEL_MODELS
+except ImportError:  # a route's tree from before the concept folders and public names
+    import paper_checks._report
     from numerics import compiled_kernels
-from paper_checks._scene import KERNEL_MODELS
+    from paper_checks._scene import KERNEL_MODELS
 
 for model in KERNEL_MODELS:
     compiled_kernels(model)
@@ -268,7 +275,7 @@ def main() -> None:
     load = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as folder:
         folder = Path(folder)
-        old = _old_tree(folder / "old")
+        old = old_tree(folder / "old")
         trees = {"new": ROOT, **({"old": old} if old is not None else {})}
         whole, caches = _whole_command(trees, folder)
         drawing = _drawings(trees, caches)

@@ -12,7 +12,7 @@ Baselines, measured in the same run:
 - a scene with ``effects = "auto"`` against the same scene with the full model:
   both times (the whole ``run_scene``, the sample runs of the selection included)
   and the largest change of App and of y_min over the curve's largest App (the
-  metric of numerics/scenes/_auto.py), beside the tolerance; once where contact
+  metric of numerics/scenes/auto.py), beside the tolerance; once where contact
   loss can go, once where the slider bounces and it must stay, and once below the
   peaks at 0.02 Q, where the perturbation series is the route.
 """
@@ -31,7 +31,7 @@ import numpy as np
 
 from numerics import sweep
 from numerics.scenes import parse_scene, run_scene
-from paper_checks._scene import SCENES, paper_scene
+from paper_checks.scene import SCENES, paper_scene
 from perturb import FULL, PAPER_PANEL_FRACTIONS, Effects
 
 from ._timing import header, row

@@ -28,7 +28,7 @@ anywhere, or a point did not settle in it, the scene runs the full model and
 says where.
 
 For a sweep asking for App and extrema only, the consistent perturbation series
-of the contact's own laws is tried first as the route (``_series_route.py``):
+of the contact's own laws is tried first as the route (``series_route.py``):
 where it is a candidate and within the margin of the full model on the sample,
 it is checked as the chosen model would be, step by step and through the
 windows, and where it passes nothing is simulated for the scene.
@@ -49,10 +49,10 @@ import numpy as np
 from perturb import FULL, Effects, eq26_numbers
 
 from ..steady.orbits import Orbits
-from ._observables import observe, orbit_observables
-from ._schema import Scene
-from ._series_route import SERIES_EFFECTS, SERIES_LABEL, series_study
-from ._studies import StudyRun, model_of, run_study
+from .observables import observe, orbit_observables
+from .schema import Scene
+from .series_route import SERIES_EFFECTS, SERIES_LABEL, series_study
+from .studies import StudyRun, model_of, run_study
 
 __all__ = ["Selection", "select_effects", "observable_change", "SAMPLE_POINTS", "MARGIN"]
 
@@ -250,7 +250,7 @@ def _pointwise_check(scene, chosen, rows, times, quiet) -> Selection:
 
 
 def _series_route(scene, sample, full, full_s, where, rows) -> Selection | None:
-    """The series as the route, if it is a candidate (``_series_route.py``), within the
+    """The series as the route, if it is a candidate (``series_route.py``), within the
     margin of the full model on the sample, and within the tolerance of the full model
     at every point and through the sweep's windows; its row is added to ``rows``."""
     margin = MARGIN * scene.tolerance

@@ -12,8 +12,8 @@ import numpy as np
 
 from perturb.common import write_atomically
 
-from ._observables import HARMONICS_OF_F_E, replay
-from ._schema import Scene
+from .observables import HARMONICS_OF_F_E, replay
+from .schema import Scene
 
 __all__ = ["write_outputs"]
 
@@ -67,7 +67,7 @@ def _app(scene, run, out, name):
         from ..plots import plot_app
 
         return _each(plot_app, run.outcomes, out, name)
-    from ..plots._curves import plot_curves
+    from ..plots.curves import plot_curves
 
     plot_curves(run.observables, out / name, title=_title(scene))
     return [name]
@@ -245,7 +245,7 @@ def _orbit_history(scene, run, sweep_run, i: int) -> dict:
     """y after every step of a few periods of the orbit at point ``i``, simulated again."""
     from perturb import Effects
 
-    from ._studies import model_of
+    from .studies import model_of
 
     periods = _ANIMATED_PERIODS * int(max(sweep_run.period[i], 1))
     orbit = replay(model_of(scene, Effects(**run.effects)), sweep_run, i, periods)

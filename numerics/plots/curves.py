@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from ._figure import finish, new_figure
+from .figure import finish, new_figure
 
 __all__ = ["plot_curves"]
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from ._figure import EDGE_PAD_IN, finish, fixed_layout, panel_title
+from .figure import EDGE_PAD_IN, finish, fixed_layout, panel_title
 
 __all__ = ["plot_app", "plot_extrema"]
 

@@ -6,8 +6,8 @@ import numpy as np
 
 from perturb import PAPER_F_N0_HZ, PAPER_PANEL_FRACTIONS, frequency_response
 
-from ._claims import Claim
-from ._scene import TINY_FORCE_FRAC, PaperScene
+from .claims import Claim
+from .scene import TINY_FORCE_FRAC, PaperScene
 
 __all__ = ["natural_frequency", "linear_resonance", "peaks_bend", "superharmonic_peaks",
            "asymmetry"]

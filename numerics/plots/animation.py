@@ -20,7 +20,7 @@ from matplotlib.patches import Polygon, Rectangle
 
 from perturb.common import check_int, check_positive, check_real, finite_array, replacing
 
-from ._observables import curve_labels, curves, increasing, is_wide, same_lengths
+from .observables import curve_labels, curves, increasing, is_wide, same_lengths
 
 __all__ = ["animate_slider", "animate_sweep"]
 

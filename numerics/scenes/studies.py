@@ -13,7 +13,7 @@ import numpy as np
 
 from perturb import ContactModel
 
-from ._schema import Scene
+from .schema import Scene
 
 __all__ = ["StudyRun", "run_study", "register_study", "SERIES_STUDIES"]
 
@@ -241,7 +241,7 @@ def register_study(kind: str, study, runner) -> None:
     ``runner(scene, model, frequency_hz, quiet) -> StudyRun``); a package that owns a
     study, as paper_checks owns the work-precision study, registers it when the module
     that defines it is imported."""
-    from ._schema import STUDIES
+    from .schema import STUDIES
 
     if kind in STUDIES and _RUNNERS.get(kind) is not runner:
         raise ValueError(f"a study {kind!r} is already registered.")

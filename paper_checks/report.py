@@ -12,10 +12,10 @@ from numerics.comparison.table import format_comparison
 from perturb import text_report
 from perturb.common import processors, write_atomically, write_json
 
-from ._claims import Claim
-from ._figures import draw_figures
-from ._registry import run_claims
-from ._scene import PaperScene, worker_pool
+from .claims import Claim
+from .figures import draw_figures
+from .registry import run_claims
+from .scene import PaperScene, worker_pool
 
 __all__ = ["write_report"]
 
@@ -51,7 +51,7 @@ def _claims_section(claims: list[Claim]) -> list[str]:
 def _work_section(work) -> list[str]:
     lines = ["## What accuracy costs", "",
              "Largest relative error of A_pp over a few points against wall time "
-             "(see `paper_checks/_work_precision.py` for the points and references).", ""]
+             "(see `paper_checks/work_precision.py` for the points and references).", ""]
     for method in work.methods:
         lines += [f"**{method.name}** ({method.setting})", "",
                   "| setting | error | time [s] |", "|---|---|---|"]

@@ -53,8 +53,8 @@ from perturb import (
 from perturb.common import tied_to_this_process
 from perturb.series.compiled import lambdified_series
 
-from ._forked import ForkedJobs, forks
-from ._work_precision import ERROR_ORDERS, SERIES_ORDERS, WorkPrecision, scene_methods
+from .forked import ForkedJobs, forks
+from .work_precision import ERROR_ORDERS, SERIES_ORDERS, WorkPrecision, scene_methods
 
 __all__ = ["PaperScene", "COEXISTENCE_POINTS", "SCENES", "CENSUS_SCENES", "SCENE_FILES",
            "KERNEL_FREE", "paper_scene", "worker_pool"]
@@ -128,7 +128,7 @@ def run_job(scene: Scene, out: Path | None) -> SceneJob:
 
 def _draw_work_precision(job: SceneJob, out: Path) -> None:
     """Draw the work-precision figure of ``job`` into ``out``, timed."""
-    from ._figures import plot_work_precision
+    from .figures import plot_work_precision
 
     start = time.perf_counter()
     plot_work_precision(WorkPrecision.from_text(job.run.text), out / WORK_PRECISION_FIGURE)

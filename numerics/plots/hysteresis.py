@@ -8,7 +8,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..contact.hysteresis import HysteresisLoop
-from ._figure import finish, new_figure
+from .figure import finish, new_figure
 
 __all__ = ["plot_hysteresis"]
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from ._figure import finish, new_figure
+from .figure import finish, new_figure
 
 __all__ = ["plot_continuation", "plot_continued_app", "plot_force_continuation"]
 
@@ -85,7 +85,7 @@ def plot_continued_app(continuations, path=None, *, sweep=None) -> Figure:
     """Fig. 2 redrawn from continued branches: one panel per force amplitude (one
     ``Continuation`` each), App (log axis) against f_e, stable parts solid and unstable
     dashed; with ``sweep`` (a ``Sweep`` at the same amplitudes), its points beside."""
-    from ._sweep import f_n0_hz, fraction_title, resonance_marks
+    from .sweep import f_n0_hz, fraction_title, resonance_marks
 
     runs = sorted(continuations, key=lambda c: c.pa_frac)
     cols = min(len(runs), 2)

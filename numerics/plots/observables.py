@@ -17,7 +17,7 @@ from matplotlib.ticker import MaxNLocator
 
 from perturb.common import check_positive, finite_array
 
-from ._figure import finish, new_figure
+from .figure import finish, new_figure
 
 __all__ = [
     "plot_contact_fraction",
@@ -34,7 +34,7 @@ EDGE_STYLE = {"color": "tab:red", "lw": 0.8}
 Y0_STYLE = {"color": "0.4", "lw": 0.8, "ls": "--"}
 
 
-# -- checks shared with ``_animation``
+# -- checks shared with ``animation``
 
 
 def finite_2d(name: str, value, *, missing: bool = False) -> np.ndarray:

@@ -34,8 +34,8 @@ from perturb.common import Status
 from ..steady.orbits import Orbits
 from ..steady.shooting import DEFAULTS
 from ..steady.sweeps import Sweep, SweepRun
-from ._schema import Scene
-from ._studies import StudyRun
+from .schema import Scene
+from .studies import StudyRun
 
 __all__ = ["series_study", "SERIES_ORDER", "SERIES_OBSERVABLES", "SERIES_LABEL",
            "SERIES_EFFECTS", "SERIES_TRUNCATION"]

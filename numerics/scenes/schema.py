@@ -21,7 +21,7 @@ import numpy as np
 from perturb import EQ_2_6, FULL, LINEAR, ContactParameters, Effects, parameters_with
 from perturb.series.truncation import TRUNCATIONS
 
-from ._study_checks import Checked, Invalid, check_atlas, check_continuation, check_folds
+from .study_checks import Checked, Invalid, check_atlas, check_continuation, check_folds
 
 __all__ = ["Scene", "SceneError", "read_scene", "parse_scene", "STUDIES", "OBSERVABLES",
            "NAMED_EFFECTS", "Study", "Option"]
@@ -82,7 +82,7 @@ class Study:
     needs: tuple[str, ...] = ()  # excitation keys it needs: "pa_frac", "frequency_hz"
     auto: bool = False  # whether effects = "auto" applies
     #: Checks what the options' own ranges cannot (``check(checked) -> None``, ``checked``
-    #: a ``Checked``); it raises ``Invalid`` naming the scene's key (``_study_checks``).
+    #: a ``Checked``); it raises ``Invalid`` naming the scene's key (``study_checks``).
     check: Callable | None = None
 
 

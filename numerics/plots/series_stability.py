@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from ._figure import finish, new_figure
+from .figure import finish, new_figure
 
 __all__ = ["plot_series_stability"]
 

@@ -11,7 +11,7 @@ from perturb import ContactModel
 
 from ..backbone.exact import Backbone, exact_backbone
 from ..comparison.study import Comparison
-from ._figure import finish, fixed_layout, panel_title
+from .figure import finish, fixed_layout, panel_title
 
 __all__ = ["plot_comparison"]
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._schema import Scene
+from .schema import Scene
 
 __all__ = ["observe", "orbit_observables", "harmonic_amplitudes", "contact_fraction", "replay",
            "HARMONICS_OF_F_E"]

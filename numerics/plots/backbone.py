@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from matplotlib.figure import Figure
 
-from ._figure import finish, fixed_layout, new_figure
+from .figure import finish, fixed_layout, new_figure
 
 if TYPE_CHECKING:  # the exact backbone imports scipy.optimize: not for every figure
     from ..backbone.exact import Backbone

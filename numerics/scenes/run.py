@@ -8,11 +8,11 @@ from pathlib import Path
 from perturb import FULL
 from perturb.common import note
 
-from ._auto import select_effects
-from ._observables import observe
-from ._result import SceneRun
-from ._schema import Scene, read_scene
-from ._studies import SERIES_STUDIES, model_of, run_study
+from .auto import select_effects
+from .observables import observe
+from .result import SceneRun
+from .schema import Scene, read_scene
+from .studies import SERIES_STUDIES, model_of, run_study
 
 __all__ = ["run_scene"]
 
@@ -83,7 +83,7 @@ def run_scene(scene: Scene | str | Path, *, out: str | Path | None = None, json:
                    model=model.as_dict(), settings=scene.as_dict(),
                    elapsed_s=time.perf_counter() - start)
     if out is not None:
-        from ._output import write_outputs
+        from .output import write_outputs
 
         out = Path(out)
         run.files = write_outputs(scene, run, out)

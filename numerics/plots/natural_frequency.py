@@ -7,7 +7,7 @@ from pathlib import Path
 from matplotlib.figure import Figure
 
 from ..contact.natural_frequency import HeightSweep
-from ._figure import finish, new_figure
+from .figure import finish, new_figure
 
 __all__ = ["plot_natural_frequency"]
 

@@ -6,8 +6,8 @@ import numpy as np
 
 from perturb import PAPER_PANEL_FRACTIONS
 
-from ._claims import Claim
-from ._scene import PaperScene
+from .claims import Claim
+from .scene import PaperScene
 
 __all__ = ["bistability", "contact_loss", "coexistence_740", "coexistence_490"]
 

@@ -8,7 +8,7 @@ from matplotlib.patches import Patch
 
 from perturb.common import Status
 
-from ._figure import finish, new_figure
+from .figure import finish, new_figure
 
 __all__ = ["plot_atlas"]
 
@@ -36,7 +36,7 @@ def plot_atlas(atlas, path=None, *, folds=None):
     if failed.any():
         handles.append(Patch(color=FAILED_COLOUR, label=f"task failed ({int(failed.sum())})"))
     if folds is not None:
-        from ._folds import plot_folds
+        from .folds import plot_folds
 
         plot_folds(folds, ax=ax)
         handles += ax.get_legend_handles_labels()[0]  # the fold curves, in one legend

@@ -2,17 +2,17 @@
 
 from __future__ import annotations
 
-from ._checks_resonances import (
+from .checks_resonances import (
     asymmetry,
     linear_resonance,
     natural_frequency,
     peaks_bend,
     superharmonic_peaks,
 )
-from ._checks_stability import bistability, coexistence_490, coexistence_740, contact_loss
-from ._checks_theory import frequency_falls, series_structure
-from ._claims import Claim
-from ._scene import PaperScene
+from .checks_stability import bistability, coexistence_490, coexistence_740, contact_loss
+from .checks_theory import frequency_falls, series_structure
+from .claims import Claim
+from .scene import PaperScene
 
 __all__ = ["CHECKS", "run_claims"]
 

@@ -7,8 +7,8 @@ import sympy as sp
 
 from perturb import backbone_series, series_symbols
 
-from ._claims import Claim
-from ._scene import PaperScene
+from .claims import Claim
+from .scene import PaperScene
 
 __all__ = ["series_structure", "frequency_falls"]
 

@@ -11,10 +11,10 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from numerics.plots._figure import finish, fixed_layout
+from numerics.plots.figure import finish, fixed_layout
 
-from ._scene import CENSUS_SCENES, WORK_PRECISION_FIGURE, WORK_PRECISION_SCENE, PaperScene
-from ._work_precision import WorkPrecision
+from .scene import CENSUS_SCENES, WORK_PRECISION_FIGURE, WORK_PRECISION_SCENE, PaperScene
+from .work_precision import WorkPrecision
 
 __all__ = ["draw_figures", "plot_work_precision", "SCENE_FIGURES"]
 

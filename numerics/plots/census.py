@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._figure import finish, new_figure
+from .figure import finish, new_figure
 
 __all__ = ["plot_census"]
 

@@ -24,6 +24,7 @@ from perturb.common import Status, lazy_names, load
 # it runs: scipy.optimize (the backbone), sympy (what derives) and the scenes stay
 # out of `python -m numerics sweep`.
 _LAZY = {
+    "__version__": ("perturb.common._version", "VERSION"),
     "Atlas": ".steady",
     "atlas": ".steady",
     "Attractor": ".steady",

@@ -11,7 +11,8 @@ from perturb.common import lazy_names
 
 # Imported at first use (PEP 562), so that `python -m paper_checks` imports them after
 # it has turned the garbage collector off (paper_checks/__main__.py).
-_LAZY = {"Claim": ".claims", "CHECKS": ".registry", "run_claims": ".registry",
+_LAZY = {"__version__": ("perturb.common._version", "VERSION"), "Claim": ".claims",
+         "CHECKS": ".registry", "run_claims": ".registry",
          "PaperScene": ".scene"}
 
 __all__ = ["CHECKS", "Claim", "PaperScene", "run_claims"]

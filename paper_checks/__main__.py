@@ -34,7 +34,7 @@ import atexit  # noqa: E402
 import gc  # noqa: E402
 import sys  # noqa: E402
 
-from perturb.common import int_at_least, output_dir, run_command  # noqa: E402
+from perturb.common import add_version, int_at_least, output_dir, run_command  # noqa: E402
 
 
 def _kernel_files() -> set[str]:
@@ -45,6 +45,7 @@ def _kernel_files() -> set[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m paper_checks", description=__doc__)
+    add_version(parser)
     parser.add_argument("--quick", action="store_true", help="coarser grids (for tests)")
     parser.add_argument("--out", default="out", type=output_dir,
                         help="output folder, created if its parent exists (default: out)")

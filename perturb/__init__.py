@@ -34,6 +34,7 @@ from .model.parameters import (
 # The symbolic names, imported at first use (PEP 562): sympy takes 0.3 s to import,
 # and a command whose numbers and kernels are cached needs none of them.
 _LAZY = {
+    "__version__": (".common._version", "VERSION"),
     "series_symbols": (".series.series_symbols", None),
     "symbols": (".model.symbols", None),
     "BackboneSeries": (".series.free_backbone", "BackboneSeries"),

@@ -33,6 +33,7 @@ import numpy as np
 
 from perturb.common import (
     add_allow_slow,
+    add_version,
     int_at_least,
     nonnegative_float,
     note,
@@ -133,7 +134,8 @@ def _parser() -> argparse.ArgumentParser:
     derive_cmd = commands.add_parser("derive", help="derive and print the perturbation series")
     derive_cmd.add_argument("--order", type=order, required=True)
     derive_cmd.add_argument("--latex", metavar="FILE", type=output_file)
-    derive_cmd.add_argument("--json", metavar="FILE", type=output_file)
+    derive_cmd.add_argument("--json", metavar="FILE", type=output_file,
+                            help="also write the series as JSON (-: to stdout)")
     layout = derive_cmd.add_mutually_exclusive_group()
     layout.add_argument("--pretty", action="store_true", help="2-d unicode formulas")
     layout.add_argument("--steps", action="store_true",
@@ -146,7 +148,8 @@ def _parser() -> argparse.ArgumentParser:
     backbone_cmd.add_argument("--app-m", type=positive_float, nargs="+", metavar="A",
                               help="peak-to-peak amplitudes [m] at which to give the "
                               "backbone's frequency (App of the series orbit)")
-    backbone_cmd.add_argument("--json", metavar="FILE", type=output_file)
+    backbone_cmd.add_argument("--json", metavar="FILE", type=output_file,
+                              help="also write the backbone as JSON (-: to stdout)")
     backbone_cmd.set_defaults(run=_backbone)
 
     response_cmd = commands.add_parser("response", help="analytic frequency response")
@@ -159,7 +162,8 @@ def _parser() -> argparse.ArgumentParser:
                               help="highest excitation frequency [Hz], above --fmin")
     response_cmd.add_argument("--points", type=int_at_least(1, MAX_FREQUENCIES), default=311,
                               help="frequencies from --fmin to --fmax")
-    response_cmd.add_argument("--json", metavar="FILE", type=output_file)
+    response_cmd.add_argument("--json", metavar="FILE", type=output_file,
+                              help="also write the response as JSON (-: to stdout)")
     add_model_option(response_cmd)
     response_cmd.set_defaults(run=_response)
     for sub in (derive_cmd, backbone_cmd):
@@ -177,6 +181,8 @@ def _parser() -> argparse.ArgumentParser:
         sub.add_argument(
             "--quiet", action="store_true", default=argparse.SUPPRESS, help="no progress on stderr"
         )
+    for command in (parser, *commands.choices.values()):
+        add_version(command)
     return parser
 
 

@@ -110,11 +110,19 @@ def test_sweep_json_has_the_documented_keys(tmp_path):
 
 
 def test_progress_goes_to_stderr_unless_quiet(tmp_path):
+    # stderr is a pipe here: the bar is drawn because the environment asks for it (on a
+    # terminal it is drawn by default), and never with --quiet.
+    import os
+
     command = [sys.executable, "-m", "numerics", "sweep", "--pa-frac", "0.05", "--points", "3",
                "--fmin", "700", "--fmax", "800"]
-    loud = subprocess.run(command, check=True, capture_output=True, text=True)
-    quiet = subprocess.run(command + ["--quiet"], check=True, capture_output=True, text=True)
-    assert "sweep:" in loud.stderr and quiet.stderr == ""
+    asked = os.environ | {"CONTACT_RESONANCES_PROGRESS": "always"}
+    plain = {k: v for k, v in os.environ.items() if k != "CONTACT_RESONANCES_PROGRESS"}
+    loud = subprocess.run(command, check=True, capture_output=True, text=True, env=asked)
+    piped = subprocess.run(command, check=True, capture_output=True, text=True, env=plain)
+    quiet = subprocess.run(command + ["--quiet"], check=True, capture_output=True, text=True,
+                           env=asked)
+    assert "sweep:" in loud.stderr and "sweep:" not in piped.stderr and quiet.stderr == ""
 
 
 def test_a_lane_that_blows_up_restarts_from_rest():

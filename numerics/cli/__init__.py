@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from perturb.common import run_command
+from perturb.common import add_version, run_command
 
 from ._atlas import add_atlas_parser
 from ._backbone import add_backbone_parser
@@ -30,6 +30,8 @@ def build_parser() -> argparse.ArgumentParser:
                 add_compare_parser, add_scene_parser, add_continue_parser, add_atlas_parser,
                 add_folds_parser):
         add(sub)
+    for command in (parser, *sub.choices.values()):
+        add_version(command)
     return parser
 
 

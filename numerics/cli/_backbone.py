@@ -31,7 +31,8 @@ def add_backbone_parser(sub) -> None:
                         help="largest A_pp [m], e.g. 2.5e-5 for the bouncing branches of "
                              "Fig. 2; needs --app-min")
     parser.add_argument("--json", metavar="FILE", type=output_file,
-                        help="also write the curve as JSON (common.load reads it back)")
+                        help="also write the curve as JSON (-: to stdout; numerics.load reads "
+                        "a file back)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     add_model_option(parser)
     parser.set_defaults(run=_backbone, parser=parser)

@@ -31,7 +31,8 @@ def add_compare_parser(sub) -> None:
                         help="the series: every term of the contact's equation up to the "
                         "order (consistent, the default) or Eq. 2.6's (paper)")
     parser.add_argument("--json", metavar="FILE", type=output_file,
-                        help="also write the result as JSON")
+                        help="also write the result as JSON "
+                        "(-: to stdout, other lines to stderr)")
     parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="draw the comparison there")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")

@@ -53,7 +53,8 @@ def add_continue_parser(sub) -> None:
                         help="RK4 steps per period, fixed along the branch: an integer >= 4 "
                         "or 'auto' (the default: at least 512)")
     parser.add_argument("--json", metavar="FILE", type=output_file,
-                        help="also write the result as JSON")
+                        help="also write the result as JSON "
+                        "(-: to stdout, other lines to stderr)")
     parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="App against the parameter walked (f_e or P_a / Q): stable solid, "
                         "unstable dashed, bifurcations marked")
@@ -85,6 +86,9 @@ def _continue(args: argparse.Namespace) -> int:
 
     if args.truncation is not None and args.series is None:
         args.parser.error("argument --truncation: goes with --series")
+    if args.json == "-" and args.series is not None:
+        args.parser.error("argument --json: '-' writes one result on stdout; with --series "
+                          "give a file (the series' stability goes beside it)")
     args.truncation = args.truncation or "consistent"
     parameters = model_parameters(args)
     eq26 = args.series is not None and args.truncation == "paper"

@@ -26,7 +26,8 @@ def add_folds_parser(sub) -> None:
                         help="RK4 steps per period, fixed over the box: an integer >= 4 or "
                         "'auto' (the default: at least 512)")
     parser.add_argument("--json", metavar="FILE", type=output_file,
-                        help="also write the result as JSON")
+                        help="also write the result as JSON "
+                        "(-: to stdout, other lines to stderr)")
     parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="the fold curves in the (f_e, P_a / Q) plane, cusps marked")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")

@@ -20,7 +20,7 @@ def format_info(info: dict[str, float]) -> str:
 def add_info_parser(sub) -> None:
     parser = sub.add_parser("info", help="print the model's static and linear figures")
     parser.add_argument("--json", metavar="FILE", type=output_file,
-                        help="also write them as JSON")
+                        help="also write them as JSON (-: to stdout)")
     add_model_option(parser)
     parser.set_defaults(run=_info)
 

@@ -18,7 +18,8 @@ def add_scene_parser(sub) -> None:
                         help="folder for the figures and files the scene asks for "
                              "(default: out/scenes/NAME, NAME the file's stem)")
     parser.add_argument("--json", metavar="FILE", type=output_file,
-                        help="also write the result as JSON")
+                        help="also write the result as JSON "
+                        "(-: to stdout, other lines to stderr)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     parser.set_defaults(run=_scene, parser=parser)
 

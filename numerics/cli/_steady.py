@@ -51,7 +51,8 @@ def accuracy_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--tol", type=positive_float, default=DEFAULTS["tol"],
                         help="relative settling tolerance (default %(default)s)")
     parser.add_argument("--json", metavar="FILE", type=output_file,
-                        help="also write the result as JSON")
+                        help="also write the result as JSON "
+                        "(-: to stdout, other lines to stderr)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     add_unchecked(parser)
     add_model_option(parser)

@@ -8,6 +8,7 @@ are checked the same way, so that no result is lost at the end of a long run.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import os
 import sys
@@ -16,7 +17,7 @@ from pathlib import Path
 
 __all__ = ["positive_float", "nonnegative_float", "int_at_least", "output_file", "output_dir",
            "plot_file", "run_command", "name_value", "PLOT_FORMATS", "add_allow_slow",
-           "add_unchecked"]
+           "add_unchecked", "add_version"]
 
 
 def _finite(text: str) -> float:
@@ -84,7 +85,10 @@ def _writable_folder(folder: Path) -> bool:
 
 
 def output_file(text: str) -> str:
-    """A file to write: not a folder, in a folder that exists and takes new files."""
+    """A file to write: not a folder, in a folder that exists and takes new files; "-" is
+    standard output (the JSON writer's ``STDOUT``)."""
+    if text == "-":
+        return text
     path = Path(text).expanduser()
     if path.is_dir():
         raise argparse.ArgumentTypeError(f"{text!r} is a folder, not a file")
@@ -157,6 +161,8 @@ def run_command(args: argparse.Namespace) -> int:
       a log file that the line names, status 1.
     """
     try:
+        if getattr(args, "json", None) == "-":
+            return _json_on_stdout(args)
         return args.run(args) or 0
     except BrokenPipeError:
         # Python's advice: point stdout at devnull so that the exit flush cannot fail too.
@@ -178,6 +184,38 @@ def run_command(args: argparse.Namespace) -> int:
         print(f"{_prog(args)}: internal error ({sys.exc_info()[1]!r}); the traceback is in "
               f"{log}", file=sys.stderr)
         return 1
+
+
+class _Version(argparse.Action):
+    """``--version``: the toolkit's version, read only when asked for."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS,
+                 help="show the toolkit's version and exit"):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from ._version import VERSION
+
+        print(f"{parser.prog} {VERSION}")  # on stdout, as argparse's own "version" action
+        parser.exit()
+
+
+def add_version(parser: argparse.ArgumentParser) -> None:
+    """``--version`` on a command line."""
+    parser.add_argument("--version", action=_Version)
+
+
+def _json_on_stdout(args: argparse.Namespace) -> int:
+    """``args.run`` with ``--json -``: the JSON on stdout alone, every other line the
+    command prints on stderr."""
+    from ._json import JSON_STDOUT
+
+    token = JSON_STDOUT.set(sys.stdout)
+    try:
+        with contextlib.redirect_stdout(sys.stderr):
+            return args.run(args) or 0
+    finally:
+        JSON_STDOUT.reset(token)
 
 
 def _prog(args: argparse.Namespace) -> str:

@@ -11,8 +11,10 @@ pure-Python encoder, some 3x slower on a 3 MB sweep (``tests/test_json.py``).
 
 from __future__ import annotations
 
+import contextvars
 import json
 import math
+import sys
 from dataclasses import fields, is_dataclass
 from enum import Enum
 from pathlib import Path
@@ -21,7 +23,13 @@ import numpy as np
 
 from ._files import write_atomically
 
-__all__ = ["jsonable", "write_json", "dumps"]
+__all__ = ["jsonable", "write_json", "dumps", "STDOUT", "JSON_STDOUT"]
+
+#: The path that names standard output (``--json -``).
+STDOUT = "-"
+#: Where JSON for ``STDOUT`` goes: the command's own stdout, kept by ``run_command``
+#: while the command's other prints go to stderr (so that stdout is JSON alone).
+JSON_STDOUT: contextvars.ContextVar = contextvars.ContextVar("json_stdout", default=None)
 
 
 def _number(value: float) -> float | None:
@@ -102,6 +110,11 @@ def dumps(payload) -> str:
 
 def write_json(path: str | Path | None, payload) -> None:
     """Write ``payload`` to ``path`` as strict, UTF-8 JSON, whole or not at all
-    (``write_atomically``); nothing when ``path`` is None."""
-    if path:
+    (``write_atomically``); to standard output when ``path`` is "-" (``STDOUT``); nothing
+    when ``path`` is None."""
+    if path is not None and str(path) == STDOUT:
+        stream = JSON_STDOUT.get() or sys.stdout
+        stream.write(dumps(payload) + "\n")
+        stream.flush()
+    elif path:
         write_atomically(path, dumps(payload) + "\n")

@@ -34,6 +34,7 @@ import numpy as np
 from perturb.common import (
     add_allow_slow,
     add_version,
+    describe,
     int_at_least,
     nonnegative_float,
     note,
@@ -125,15 +126,30 @@ def _response(args: argparse.Namespace) -> None:
     print(response)
 
 
+#: What ``python -m perturb --help`` says the command line is.
+DESCRIPTION = ("The perturbation series of the contact model from the command line: derived "
+               "to any order and printed (text, LaTeX, JSON, or step by step in the paper's "
+               "names), its backbone, and the analytic frequency response it predicts. Each "
+               "subcommand's --help says more, with an example.")
+#: One example of each subcommand, shown by its --help (a test parses each).
+EXAMPLES = {
+    "derive": "python -m perturb derive --order 4 --truncation paper --steps",
+    "backbone": "python -m perturb backbone --order 6 --app-m 1e-7 2e-7",
+    "response": "python -m perturb response --order 6 --pa-frac 0.05 --fmin 1300 --fmax 1500",
+}
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m perturb", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m perturb", description=DESCRIPTION)
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     commands = parser.add_subparsers(dest="command", required=True)
     order = int_at_least(0)
 
     derive_cmd = commands.add_parser("derive", help="derive and print the perturbation series")
-    derive_cmd.add_argument("--order", type=order, required=True)
-    derive_cmd.add_argument("--latex", metavar="FILE", type=output_file)
+    derive_cmd.add_argument("--order", type=order, required=True,
+                            help="order N of the series (the powers of eps up to N)")
+    derive_cmd.add_argument("--latex", metavar="FILE", type=output_file,
+                            help="also write the series as a LaTeX document")
     derive_cmd.add_argument("--json", metavar="FILE", type=output_file,
                             help="also write the series as JSON (-: to stdout)")
     layout = derive_cmd.add_mutually_exclusive_group()
@@ -144,7 +160,8 @@ def _parser() -> argparse.ArgumentParser:
     derive_cmd.set_defaults(run=_derive)
 
     backbone_cmd = commands.add_parser("backbone", help="backbone series omega/omega0(alpha)")
-    backbone_cmd.add_argument("--order", type=order, required=True)
+    backbone_cmd.add_argument("--order", type=order, required=True,
+                              help="order N of the backbone series")
     backbone_cmd.add_argument("--app-m", type=positive_float, nargs="+", metavar="A",
                               help="peak-to-peak amplitudes [m] at which to give the "
                               "backbone's frequency (App of the series orbit)")
@@ -153,15 +170,17 @@ def _parser() -> argparse.ArgumentParser:
     backbone_cmd.set_defaults(run=_backbone)
 
     response_cmd = commands.add_parser("response", help="analytic frequency response")
-    response_cmd.add_argument("--order", type=order, default=6)
+    response_cmd.add_argument("--order", type=order, default=6,
+                              help="order N of the series (default: %(default)s)")
     response_cmd.add_argument("--pa-frac", type=nonnegative_float, required=True,
                               help="force amplitude P_a / Q")
     response_cmd.add_argument("--fmin", type=positive_float, default=PAPER_BAND_HZ[0],
-                              help="lowest excitation frequency [Hz]")
+                              help="lowest excitation frequency [Hz] (default: %(default)g)")
     response_cmd.add_argument("--fmax", type=positive_float, default=PAPER_BAND_HZ[1],
-                              help="highest excitation frequency [Hz], above --fmin")
+                              help="highest excitation frequency [Hz], above --fmin "
+                              "(default: %(default)g)")
     response_cmd.add_argument("--points", type=int_at_least(1, MAX_FREQUENCIES), default=311,
-                              help="frequencies from --fmin to --fmax")
+                              help="frequencies from --fmin to --fmax (default: %(default)s)")
     response_cmd.add_argument("--json", metavar="FILE", type=output_file,
                               help="also write the response as JSON (-: to stdout)")
     add_model_option(response_cmd)
@@ -181,6 +200,7 @@ def _parser() -> argparse.ArgumentParser:
         sub.add_argument(
             "--quiet", action="store_true", default=argparse.SUPPRESS, help="no progress on stderr"
         )
+    describe(commands, EXAMPLES)
     for command in (parser, *commands.choices.values()):
         add_version(command)
     return parser

@@ -99,3 +99,46 @@ def test_progress_is_drawn_on_a_terminal_or_when_asked_for(monkeypatch):
         bar.update(3)
         bar.close()
         assert ("work" in stream.text) == drawn, (tty, asked, quiet)
+
+
+def _commands():
+    """(name, parser, examples) of every subcommand of the three command lines, and the
+    top-level parsers with no examples."""
+    import argparse
+
+    import perturb.__main__ as perturb_main
+    from numerics.cli import EXAMPLES, build_parser
+
+    found = []
+    for top, examples in ((build_parser(), EXAMPLES),
+                          (perturb_main._parser(), perturb_main.EXAMPLES)):
+        found.append((top.prog, top, None))
+        for action in top._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                found += [(command.prog, command, examples[name])
+                          for name, command in action.choices.items()]
+    return found
+
+
+def test_every_help_page_renders_with_a_description_an_example_and_the_defaults():
+    # A help string that formats its default with %(default)g once broke `continue
+    # --help` (a traceback) where the default is None: every page is rendered here.
+    import argparse
+    import shlex
+
+    for prog, parser, example in _commands():
+        text = parser.format_help()
+        assert parser.description and "issue" not in text.lower(), prog
+        if example is None:
+            continue
+        assert f"example:\n  {example}" in text, prog
+        words = shlex.split(example)[2:]  # after "python -m"
+        top = [p for name, p, e in _commands() if e is None and name.split()[-1] == words[0]]
+        top[0].parse_args(words[1:])  # the example is a valid command line
+        for action in parser._actions:
+            if not action.option_strings or action.help == argparse.SUPPRESS:
+                continue
+            assert action.help, (prog, action.option_strings)
+            has_default = action.default not in (None, False, [], argparse.SUPPRESS)
+            if has_default and not action.required:
+                assert "default" in action.help, (prog, action.option_strings)

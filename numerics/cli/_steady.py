@@ -66,8 +66,10 @@ def add_sweep_parser(sub) -> None:
     add_band_options(parser)
     parser.add_argument("--points", type=int_at_least(2, MAX_STATES, "the most steady states "
                                                       "of one sweep, 1.1 GB at the limit"),
-                        default=311)
-    parser.add_argument("--direction", choices=DIRECTIONS, default="both")
+                        default=311, help="frequencies from --fmin to --fmax, evenly spaced "
+                        "(default: %(default)s: 5 Hz steps over the paper's band)")
+    parser.add_argument("--direction", choices=DIRECTIONS, default="both",
+                        help="sweep up, down or both ways (default: %(default)s)")
     parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="Fig. 2 there, and Fig. 3 beside it (FILE-extrema.png)")
     accuracy_options(parser)
@@ -76,8 +78,10 @@ def add_sweep_parser(sub) -> None:
 
 def add_band_options(parser: argparse.ArgumentParser) -> None:
     """--fmin and --fmax, the paper's band by default (``check_band`` relates them)."""
-    parser.add_argument("--fmin", type=positive_float, default=PAPER_BAND_HZ[0], help="[Hz]")
-    parser.add_argument("--fmax", type=positive_float, default=PAPER_BAND_HZ[1], help="[Hz]")
+    parser.add_argument("--fmin", type=positive_float, default=PAPER_BAND_HZ[0],
+                        help=f"lowest f_e [Hz] (default: {PAPER_BAND_HZ[0]:g}, the paper's band)")
+    parser.add_argument("--fmax", type=positive_float, default=PAPER_BAND_HZ[1],
+                        help=f"highest f_e [Hz], above --fmin (default: {PAPER_BAND_HZ[1]:g})")
 
 
 def check_band(args: argparse.Namespace) -> None:

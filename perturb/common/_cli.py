@@ -17,7 +17,7 @@ from pathlib import Path
 
 __all__ = ["positive_float", "nonnegative_float", "int_at_least", "output_file", "output_dir",
            "plot_file", "run_command", "name_value", "PLOT_FORMATS", "add_allow_slow",
-           "add_unchecked", "add_version"]
+           "add_unchecked", "add_version", "describe"]
 
 
 def _finite(text: str) -> float:
@@ -198,6 +198,16 @@ class _Version(argparse.Action):
 
         print(f"{parser.prog} {VERSION}")  # on stdout, as argparse's own "version" action
         parser.exit()
+
+
+def describe(subcommands, examples: dict[str, str]) -> None:
+    """Give each subcommand of ``subcommands`` (``add_subparsers``' result) its one-line
+    help as the description of its own --help, and its example from ``examples``."""
+    helps = {action.dest: action.help for action in subcommands._choices_actions}
+    for name, command in subcommands.choices.items():
+        command.description = command.description or helps[name]
+        command.epilog = f"example:\n  {examples[name]}"
+        command.formatter_class = argparse.RawDescriptionHelpFormatter
 
 
 def add_version(parser: argparse.ArgumentParser) -> None:

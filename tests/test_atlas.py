@@ -173,6 +173,8 @@ def test_the_atlas_keeps_the_result_contract(small, tmp_path):
 
 
 def test_progress_over_tasks_unless_quiet(monkeypatch, capsys):
+    # stderr is captured, not a terminal: the bar is asked for.
+    monkeypatch.setenv("CONTACT_RESONANCES_PROGRESS", "always")
     monkeypatch.setattr(atlas_module, "TASK_LANES", 98)
     atlas(740.0, 760.0, 0.15, 0.15, grid=(2, 1), workers=1, quiet=False)
     assert "atlas tasks" in capsys.readouterr().err

@@ -68,3 +68,11 @@ def test_no_private_name_is_imported_across_modules():
                         and node.value.id.startswith("_") and node.value.id != "_"):
                     crossings.append((path.name, node.value.id, node.attr))
     assert not crossings, crossings
+
+
+def test_the_distribution_says_its_licence():
+    # BSD-3-Clause, as an SPDX expression (PEP 639), with the licence's text shipped.
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    assert config["license"] == "BSD-3-Clause" and config["license-files"] == ["LICENSE"]
+    assert (ROOT / "LICENSE").read_text(encoding="utf-8").startswith("BSD 3-Clause License")
+    assert not any(c.startswith("License ::") for c in config["classifiers"])  # PEP 639

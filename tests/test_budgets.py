@@ -25,7 +25,7 @@ from numerics.cli._steady import MAX_STEADY_STEPS
 from numerics.steady.multistability import MAX_LANES
 from numerics.steady.shooting import MAX_STEPS
 from numerics.steady.sweeps import MAX_STATES
-from perturb.__main__ import _parser as perturb_parser
+from perturb.__main__ import build_parser as perturb_parser
 from perturb.series.slow_orders import SLOW_ORDERS
 from tests._peak_memory import BUDGET_BYTES, peak_memory
 

@@ -111,7 +111,7 @@ def _commands():
 
     found = []
     for top, examples in ((build_parser(), EXAMPLES),
-                          (perturb_main._parser(), perturb_main.EXAMPLES)):
+                          (perturb_main.build_parser(), perturb_main.EXAMPLES)):
         found.append((top.prog, top, None))
         for action in top._actions:
             if isinstance(action, argparse._SubParsersAction):

@@ -179,17 +179,10 @@ class WalkOptions:
                 f_hi: float) -> WalkNumbers:
         """The numbers of a walk of ``ds_max`` and ``max_angle`` over the band [f_lo, f_hi]
         (in z), as the compiled walk reads them."""
-        return WalkNumbers(
-            ds_min=self.ds_min, ds_max=ds_max, max_angle=max_angle, grow=self.grow,
-            shrink=self.shrink, corner_ds=self.corner_ds,
-            easy_iterations=float(self.easy_iterations), stall_ds=self.stall_ds,
-            newton_tol=self.newton_tol, newton_iterations=float(self.newton_iterations),
-            newton_reach=self.newton_reach, backtracks=float(self.backtracks),
-            contraction=self.contraction, stop_by_estimate=float(self.stop_by_estimate),
-            f_lo=f_lo, f_hi=f_hi, turn_share=self.turn_share, straight=self.straight,
-            size_reference=self.size_reference, size_ceiling=self.size_ceiling,
-            corner_ceiling=self.corner_ceiling, corner_shrink=self.corner_shrink,
-            corners=float(self.corners), shrink_by_turn=float(self.shrink_by_turn))
+        # Each field of the record is the option of its name, but for the walk's own four.
+        given = {"ds_max": ds_max, "max_angle": max_angle, "f_lo": f_lo, "f_hi": f_hi}
+        return WalkNumbers(**{name: float(given[name] if name in given else getattr(self, name))
+                              for name in WalkNumbers._fields})
 
     def for_fold_curves(self) -> WalkOptions:
         """The options of a fold curve's walk: the same steps and corrector tolerances,

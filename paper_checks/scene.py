@@ -190,11 +190,15 @@ def worker_pool(jobs: int) -> Iterator[Executor | None]:
 class PaperScene:
     """Shared, lazily computed results, with the time and settings of each.
 
-    ``runs`` holds each scene's ``SceneRun`` by file name, once it has run.
+    ``runs`` holds each scene's ``SceneRun`` by file name, once it has run;
+    ``kernel_models`` the models whose kernels ``start`` compiles before the scenes
+    (``KERNEL_MODELS``).
     """
 
-    def __init__(self, quick: bool = False, out: str | Path | None = None) -> None:
+    def __init__(self, quick: bool = False, out: str | Path | None = None,
+                 kernel_models: tuple[ContactModel, ...] = KERNEL_MODELS) -> None:
         self.quick = quick
+        self.kernel_models = kernel_models
         self.out = None if out is None else Path(out)
         self.timings: dict[str, dict] = {}
         self.runs: dict[str, SceneRun] = {}
@@ -250,9 +254,9 @@ class PaperScene:
         names = set(names)
         wanted = [name for name in SCENE_FILES
                   if name in names and name not in self.runs | self._started]
-        built = [model for model in KERNEL_MODELS if kernels_built(model)]
+        built = [model for model in self.kernel_models if kernels_built(model)]
         kernel_free = [name for name in wanted if name in KERNEL_FREE]
-        if len(built) == len(KERNEL_MODELS) and kernel_free and forks():
+        if len(built) == len(self.kernel_models) and kernel_free and forks():
             forked = ForkedJobs(run_job, {name: (self.variant(name), self.out)
                                           for name in kernel_free})
             self._started |= {name: forked.future(name) for name in kernel_free}
@@ -260,7 +264,7 @@ class PaperScene:
             wanted = [name for name in wanted if name not in kernel_free]
         for model in built:
             compiled_kernels(model)
-        compiled = [executor.submit(_compile, model) for model in KERNEL_MODELS
+        compiled = [executor.submit(_compile, model) for model in self.kernel_models
                     if model not in built]
         # With nothing to compile, the scenes go longest first; else those that need no
         # kernels and the formulas go first, to the worker that compiles the least.

@@ -207,13 +207,13 @@ def _series_error(response, reference: np.ndarray) -> float:
     return float(worst)
 
 
-def _dop853(ref, quick: bool) -> Method:
+def _dop853(ref, quick: bool, rtols: tuple[float, ...]) -> Method:
     # Imported here: scipy.integrate is for this study alone, whose worker process
     # imports it, not `make paper`'s main process before it starts the workers.
     from numerics.simulation import reference_last_period
 
     method = Method("DOP853", f"rtol ({DOP853_PERIODS} periods from the orbit)")
-    for rtol in DOP853_RTOL[:3] if quick else DOP853_RTOL:
+    for rtol in rtols[:3] if quick else rtols:
         start = time.perf_counter()
         apps = [np.ptp(reference_last_period(ContactModel(), f, frac * PAPER.Q_n, y, v,
                                              DOP853_PERIODS, rtol=rtol)[1])
@@ -225,11 +225,13 @@ def _dop853(ref, quick: bool) -> Method:
 
 
 def work_precision(quick: bool = False, methods=METHODS,
-                   truncation: str = "consistent") -> WorkPrecision:
+                   truncation: str = "consistent",
+                   dop853_rtols: tuple[float, ...] = DOP853_RTOL) -> WorkPrecision:
     """Measure the error and time of each of ``methods`` (names of ``METHODS``, by
     default all), in this run and in the order of ``METHODS``; the series of
     ``truncation`` ("consistent": against RK4 of the full model; "paper": Eq. 2.6's
-    series against RK4 of Eq. 2.6)."""
+    series against RK4 of Eq. 2.6); DOP853 at each of ``dop853_rtols`` (the first
+    three when ``quick``)."""
     unknown = set(methods) - set(METHODS)
     if unknown or not methods:
         raise ValueError(f"`methods` must name some of {METHODS}, got {methods!r}.")
@@ -238,7 +240,7 @@ def work_precision(quick: bool = False, methods=METHODS,
     ref = _reference() if {"RK4", "DOP853"} & set(methods) else None
     measure = {"RK4": lambda: _rk4(quick, ref),
                "series": lambda: _series(quick, truncation),
-               "DOP853": lambda: _dop853(ref, quick)}
+               "DOP853": lambda: _dop853(ref, quick, dop853_rtols)}
     measured = [measure[name]() for name in METHODS if name in methods]
     return WorkPrecision(measured, time.perf_counter() - start)
 

@@ -24,9 +24,7 @@ TASK_LANES = 2 * 98
 
 @pytest.fixture(scope="module")
 def small():
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(atlas_module, "TASK_LANES", TASK_LANES)
-        return atlas(**SMALL, workers=1)
+    return atlas(**SMALL, workers=1, task_lanes=TASK_LANES)
 
 
 def results(found: Atlas) -> str:
@@ -50,38 +48,34 @@ def test_every_cell_is_the_census_at_its_point(small):
     assert small.attractor_count[1, 0] == 4 and small.attractor_count[0, 2] == 2, small
 
 
-def test_a_local_pool_gives_the_same_bits(small, monkeypatch):
-    monkeypatch.setattr(atlas_module, "TASK_LANES", TASK_LANES)
-    assert results(atlas(**SMALL, workers=2)) == results(small)
+def test_a_local_pool_gives_the_same_bits(small):
+    assert results(atlas(**SMALL, workers=2, task_lanes=TASK_LANES)) == results(small)
 
 
-def test_a_dask_cluster_gives_the_same_bits(small, monkeypatch):
+def test_a_dask_cluster_gives_the_same_bits(small):
     # Issue 13: "a test runs the atlas on a LocalCluster with two workers and checks that
     # the result equals the local run bit for bit".
     distributed = pytest.importorskip("dask.distributed")
-    monkeypatch.setattr(atlas_module, "TASK_LANES", TASK_LANES)  # cut here, run there
     # (silence_logs: a worker that loses the scheduler as the cluster closes logs it.)
     with (distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                    dashboard_address=None, silence_logs=logging.CRITICAL)
           as cluster,
           distributed.Client(cluster) as client):
-        found = atlas(**SMALL, executor=client.get_executor())
+        found = atlas(**SMALL, executor=client.get_executor(), task_lanes=TASK_LANES)
         ran_on = client.run(lambda: True)  # the workers that were up
     assert len(ran_on) == 2
     assert results(found) == results(small)
 
 
-def test_a_different_cut_gives_the_same_bits(monkeypatch):
+def test_a_different_cut_gives_the_same_bits():
     # Every lane iterates Newton until it converges itself, whatever its batch does, so a
     # lane's result does not depend on the lanes beside it. At rest (P_a = 0) App is
     # round-off, the most sensitive number there is: when a batch iterated until all its
     # lanes had converged, it came out 3.7e-22 m alone and 1.0e-21 m in one batch with
     # the 0.5 Q cell.
     cells = dict(fmin_hz=490.0, fmax_hz=490.0, pa_min=0.0, pa_max=0.5, grid=(1, 2), workers=1)
-    monkeypatch.setattr(atlas_module, "TASK_LANES", 98)
-    alone = atlas(**cells)
-    monkeypatch.setattr(atlas_module, "TASK_LANES", 196)
-    together = atlas(**cells)
+    alone = atlas(**cells, task_lanes=98)
+    together = atlas(**cells, task_lanes=196)
     assert (alone.settings["tasks"], together.settings["tasks"]) == (2, 1)
     assert alone.attractor_labels == together.attractor_labels
     assert alone.attractor_labels[0] == [["rest"]]
@@ -112,12 +106,12 @@ def _fails_at_half_q(frequency_hz, pa_frac, *args):
 @pytest.mark.parametrize("where", ["worker processes", "threads", "this process"])
 def test_a_failed_task_is_reported_and_the_others_complete(where, small, monkeypatch):
     monkeypatch.setattr(atlas_module, "_run_task", _fails_at_half_q)
-    monkeypatch.setattr(atlas_module, "TASK_LANES", TASK_LANES)
     if where == "threads":
         with ThreadPoolExecutor(2) as threads:  # any Executor will do
-            found = atlas(**SMALL, executor=threads)
+            found = atlas(**SMALL, executor=threads, task_lanes=TASK_LANES)
     else:
-        found = atlas(**SMALL, workers=2 if where == "worker processes" else 1)
+        found = atlas(**SMALL, workers=2 if where == "worker processes" else 1,
+                      task_lanes=TASK_LANES)
     failed = found.status == Status.FAILED
     # The tasks are cells (0, 1), (2, 3), (4, 5) in row-major order (P_a, then f_e):
     # 0.5 Q is in the second and the third.
@@ -150,6 +144,7 @@ def test_a_failed_task_is_reported_and_the_others_complete(where, small, monkeyp
     ({"executor": ThreadPoolExecutor(1), "workers": 2}, "not both"),
     ({"initial_states": {"y_over_y0": [1.0]}}, "`initial_states`: `grid` must have exactly"),
     ({"tol": -1.0}, "`tol` must be"),
+    ({"task_lanes": 0}, "`task_lanes` must be"),
 ])
 def test_bad_input_is_refused_before_any_work(change, match, monkeypatch):
     monkeypatch.setattr(atlas_module, "_run", _no_work)
@@ -175,8 +170,7 @@ def test_the_atlas_keeps_the_result_contract(small, tmp_path):
 def test_progress_over_tasks_unless_quiet(monkeypatch, capsys):
     # stderr is captured, not a terminal: the bar is asked for.
     monkeypatch.setenv("CONTACT_RESONANCES_PROGRESS", "always")
-    monkeypatch.setattr(atlas_module, "TASK_LANES", 98)
-    atlas(740.0, 760.0, 0.15, 0.15, grid=(2, 1), workers=1, quiet=False)
+    atlas(740.0, 760.0, 0.15, 0.15, grid=(2, 1), workers=1, quiet=False, task_lanes=98)
     assert "atlas tasks" in capsys.readouterr().err
     atlas(740.0, 760.0, 0.15, 0.15, grid=(2, 1), workers=1)
     assert capsys.readouterr().err == ""

@@ -307,15 +307,12 @@ def test_comparison_figure_draws_the_backbone_over_the_curves_shown():
     assert _covering_backbone(comparison, backbone) is backbone
 
 
-def test_a_backbone_in_chunks_is_the_backbone_at_once(monkeypatch):
+def test_a_backbone_in_chunks_is_the_backbone_at_once():
     # Levels are integrated 10,000 at a time so that memory stays bounded (some 400 MB at
     # the most levels, 100,000, measured): the same numbers, to round-off (vector lengths
     # change the last bit of 2 % of them, measured).
-    from numerics.backbone import exact
-
     chunked = exact_backbone(app_range_m=(1e-9, 2e-5), points=2_500)
-    monkeypatch.setattr(exact, "_LEVELS_PER_CHUNK", 1_000)
-    smaller = exact_backbone(app_range_m=(1e-9, 2e-5), points=2_500)
+    smaller = exact_backbone(app_range_m=(1e-9, 2e-5), points=2_500, levels_per_chunk=1_000)
     for name in ("frequency_hz", "app_m", "a1_m", "ymin_m"):
         np.testing.assert_allclose(getattr(chunked, name), getattr(smaller, name), rtol=1e-14)
     with pytest.raises(ValueError, match="`points` must be an integer <= 100000"):

@@ -142,14 +142,13 @@ def test_sizes_beyond_the_limits_are_refused_before_any_work():
     assert time.perf_counter() - start < 2.0
 
 
-def test_the_response_in_chunks_equals_the_response_at_once(monkeypatch):
+def test_the_response_in_chunks_equals_the_response_at_once():
     # Frequencies are solved a chunk at a time, so that memory stays bounded.
     import perturb.response.frequency as response
 
     f = np.linspace(1300.0, 1500.0, 301)
     whole = response.frequency_response(f, 0.05, 4)
-    monkeypatch.setattr(response, "FREQUENCIES_PER_CHUNK", 7)
-    chunked = response.frequency_response(f, 0.05, 4)
+    chunked = response.frequency_response(f, 0.05, 4, frequencies_per_chunk=7)
     assert len(chunked.branches) == len(whole.branches)
     for a, b in zip(chunked.branches, whole.branches):
         assert np.array_equal(a.app_m, b.app_m) and np.array_equal(a.valid, b.valid)
@@ -610,14 +609,13 @@ def test_a_jump_that_cannot_be_swept_finer_is_flagged(monkeypatch):
     def refuse(steps, refinements=0):
         raise ValueError("too many steps")
 
+    from numerics import SteadyOptions
     from perturb import PAPER, ContactModel
 
     monkeypatch.setattr(sweeping, "check_steps", refuse)
     run = sweeping.sweep_points(np.linspace(1800.0, 250.0, 621)[None, :],
                                 np.array([0.15 * PAPER.Q_n]), ContactModel(), True,
-                                steps_per_period=16, tol=1e-6, app_rtol=5e-3,
-                                max_periods=None, method="newton",
-                                refinements=2, keep_orbits=False)
+                                options=SteadyOptions(steps_per_period=16))
     flagged = [i for i, m in enumerate(run.message) if "jumped here off a branch" in m]
     assert len(flagged) == 1, run.message
     assert run.status[flagged[0]] == Status.UNDER_RESOLVED

@@ -1,6 +1,7 @@
 """What the wheel installs: the three packages and their subpackages, nothing beside them
 (a top-level package of a common name would clash with another distribution's)."""
 
+import ast
 import tomllib
 from pathlib import Path
 
@@ -79,3 +80,25 @@ def test_the_distribution_says_its_licence():
     assert config["license"] == "BSD-3-Clause" and config["license-files"] == ["LICENSE"]
     assert (ROOT / "LICENSE").read_text(encoding="utf-8").startswith("BSD 3-Clause License")
     assert not any(c.startswith("License ::") for c in config["classifiers"])  # PEP 639
+
+
+def test_one_walker_serves_every_continuation():
+    # Every walk is the one engine's: the walk of a branch (in f_e or P_a, and branch
+    # switching, which drives it) and the fold curves' walk subclass ArclengthWalk, and
+    # only the engine calls the step routine (whose compiled twin is walk_template's).
+    import numerics.continuation.folds as folds
+    import numerics.continuation.walk as walk
+
+    assert issubclass(walk.Walk, walk.ArclengthWalk)
+    assert issubclass(folds.FoldWalk, walk.ArclengthWalk)
+    walkers = [name for module in (walk, folds) for name, value in vars(module).items()
+               if isinstance(value, type) and name.endswith("Walk")
+               and value.__module__ == module.__name__]
+    assert sorted(walkers) == ["ArclengthWalk", "FoldWalk", "Walk"]
+    callers = []
+    for path in sorted((ROOT / "numerics").rglob("*.py")):
+        tree = ast.parse(path.read_text())
+        callers += [path.name for node in ast.walk(tree) if isinstance(node, ast.Call)
+                    and getattr(node.func, "id", getattr(node.func, "attr", None))
+                    == "arclength_step"]
+    assert callers == ["walk.py"], callers

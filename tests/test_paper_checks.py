@@ -208,13 +208,12 @@ def test_a_forked_process_that_dies_is_an_error_not_a_wait():
 
 @pytest.mark.skipif(not forks(), reason="the kernel-free scenes are forked on Linux")
 def test_with_the_kernels_built_the_kernel_free_scenes_run_forked_not_in_the_pool(
-        tmp_path, monkeypatch):
+        tmp_path):
     # The kernels compiled already, start() runs KERNEL_FREE's scenes in a process forked
     # before it loads them (no kernel to load here), none in the workers; they give what
     # they give here, figures byte for byte.
-    monkeypatch.setattr(scene_module, "KERNEL_MODELS", ())
-    here = PaperScene(quick=True, out=tmp_path / "here")
-    there = PaperScene(quick=True, out=tmp_path / "there")
+    here = PaperScene(quick=True, out=tmp_path / "here", kernel_models=())
+    there = PaperScene(quick=True, out=tmp_path / "there", kernel_models=())
     with worker_pool(2) as pool:
         there.start(pool, KERNEL_FREE)
         assert len(there.forked) == 1 and not pool._processes  # no worker started

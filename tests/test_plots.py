@@ -250,9 +250,8 @@ def test_a_scene_that_fails_in_a_worker_is_raised_where_its_result_is_asked_for(
     def fail(scene, out):
         raise RuntimeError(f"cannot run {scene.title[:6]}")
 
-    monkeypatch.setattr(scene_module, "KERNEL_MODELS", ())
     monkeypatch.setattr(scene_module, "run_scene", fail)
-    scene = PaperScene(quick=True, out=tmp_path)
+    scene = PaperScene(quick=True, out=tmp_path, kernel_models=())
     with pytest.raises(RuntimeError, match="cannot run Fig. 2"), worker_pool(2) as pool:
         scene.start(pool)
         scene.sweep  # noqa: B018

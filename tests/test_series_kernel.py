@@ -27,7 +27,6 @@ import numpy as np
 import pytest
 
 from perturb.model.parameters import PAPER, ContactParameters
-from perturb.series import kernel as series_kernel
 from perturb.series.kernel import KernelSeries, kernel_series
 from perturb.series.numeric import NumericSeries
 from perturb.series.truncation import Truncation, series_values, truncation_for
@@ -156,13 +155,13 @@ def test_broadcast_shapes_and_scalars():
     assert [x.shape for x in empty] == [(0,), (0,)]
 
 
-def test_chunks_of_lanes_change_nothing(monkeypatch):
+def test_chunks_of_lanes_change_nothing():
     """``evaluate`` runs the kernel a chunk of lanes at a time: 32 lanes in chunks of 5
     (the last one short) give the very numbers of one chunk."""
     kernel, coefficients = _both("consistent-m2=1.5-l=0.5", 6)[1:]
     args = (*_lanes(6), *coefficients)
     whole = kernel.evaluate(*args)
-    monkeypatch.setattr(series_kernel, "_CHUNK", 5)
+    kernel.lanes_per_call = 5
     chunked = kernel.evaluate(*args)
     assert list(chunked) == list(whole)
     for name, value in whole.items():

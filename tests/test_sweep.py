@@ -171,13 +171,10 @@ def test_the_bouncing_down_branch_is_an_attractor_for_an_independent_integrator(
     assert abs(np.ptp(last) / run.app_m[-1] - 1) < 1e-3
 
 
-def test_a_sweep_past_the_checked_steps_says_it_was_not_checked(monkeypatch):
+def test_a_sweep_past_the_checked_steps_says_it_was_not_checked():
     # More candidate steps than the bound: no run is checked, each says so (jumped None)
     # and its jumps are App's ratio alone, as for a run made without the check.
-    from numerics.steady import sweeps
-
-    monkeypatch.setattr(sweeps, "MAX_CHECKED_STEPS", 1)
-    result = sweep(np.linspace(1300.0, 1500.0, 5), 0.05)
+    result = sweep(np.linspace(1300.0, 1500.0, 5), 0.05, max_checked_steps=1)
     for run in result.runs:
         assert run.jumped is None
         ratio = np.maximum(run.app_m[1:] / run.app_m[:-1], run.app_m[:-1] / run.app_m[1:])

@@ -16,7 +16,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from numerics import sweep
+from numerics import SteadyOptions, sweep
 from numerics.kernels.codegen import sweep_driver_built
 from numerics.steady.sweeps import sweep_points
 from perturb import EQ_2_6, FULL, PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
@@ -28,8 +28,7 @@ ESTIMATE_RTOL = 1e-13
 #: The multipliers: measured at most 7.8e-16 relative, 5.8e-16 absolute (a few ulp).
 MULTIPLIER_RTOL, MULTIPLIER_ATOL = 1e-14, 1e-15
 #: A sweep's default accuracy, as sweep_points takes it.
-ACCURACY = dict(steps_per_period="auto", tol=1e-6, app_rtol=5e-3, max_periods=None,
-                method="newton", refinements=2, keep_orbits=False)
+ACCURACY = dict(options=SteadyOptions(), keep_orbits=False)
 
 
 def assert_same_points(compiled, python):
@@ -113,7 +112,7 @@ def test_an_error_in_one_group_of_lanes_stops_the_others(monkeypatch):
     blocks = []
 
     def sweep_group(kernels, freq, *args):
-        report, stop = args[-2:]
+        report, stop, _ = args[-3:]
         if freq[0, 0] == 1000.0:  # the group of lane 1
             raise RuntimeError("broken group")
         for _ in range(1000):
@@ -233,23 +232,22 @@ def test_a_broken_driver_cache_falls_back_to_python_and_is_removed(monkeypatch):
         sweep([1300.0, 1400.0], [0.05], direction="up", engine="compiled")
 
 
-def test_a_sweep_cut_into_one_point_blocks_matches_the_python_sweep(monkeypatch):
-    # The compiled sweep runs a block of points per call (about BLOCK_SECONDS each) so that
+def test_a_sweep_cut_into_one_point_blocks_matches_the_python_sweep():
+    # The compiled sweep runs a block of points per call (about block_seconds each) so that
     # the progress bar moves and Ctrl-C is heard; each block continues every lane from its
     # last good orbit. One point per block is the hardest case for that hand-over.
     from numerics.steady import sweep_compiled
 
-    monkeypatch.setattr(sweep_compiled, "BLOCK_SECONDS", 0.0)
     done = []
     freq = np.linspace(1300.0, 1500.0, 9)
-    blocks = sweep_points(freq[None, :], np.array([0.2 * PAPER.Q_n]), ContactModel(), True,
-                          engine="compiled", **ACCURACY)
+    blocks = sweep_compiled.sweep_lanes_compiled(freq[None, :], np.array([0.2 * PAPER.Q_n]),
+                                                 ContactModel(), block_seconds=0.0, **ACCURACY)
     python = sweep_points(freq[None, :], np.array([0.2 * PAPER.Q_n]), ContactModel(), True,
                           engine="python", **ACCURACY)
     assert_same_points(blocks, python)
-    monkeypatch.setattr(sweep_compiled, "BLOCK_SECONDS", 1e9)  # one block: the whole sweep
     sweep_compiled.sweep_lanes_compiled(freq[None, :], np.array([0.2 * PAPER.Q_n]),
-                                         ContactModel(), done=done.append, **ACCURACY)
+                                         ContactModel(), done=done.append, block_seconds=1e9,
+                                         **ACCURACY)  # one block after the first: the rest
     assert done == [1, 8]  # the first block is one point, to measure the time per point
 
 

@@ -234,7 +234,7 @@ def test_a_bifurcation_that_cannot_be_located_is_marked_not_lost(
     f_tol = c.LOCATE_TOL * eq26_numbers().f_n0_hz
     assert all(b.frequency_tol_hz == pytest.approx(f_tol, rel=5e-8) and b.pa_frac_tol == 0.0
                for b in located)
-    monkeypatch.setattr(c.Walk, "_locate", lambda self, *args: None)
+    monkeypatch.setattr(c.Walk, "locate", lambda self, *args: None)
     marked = [b for b in continue_orbits(pa_frac, *band, engine=engine).bifurcations
               if b.kind == kind]
     assert [b.located for b in marked] == [False] * len(errors_hz)

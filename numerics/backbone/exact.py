@@ -47,7 +47,7 @@ __all__ = ["Backbone", "exact_backbone", "contact_loss_compression", "MAX_POINTS
 MAX_POINTS = 100_000
 #: Levels integrated together: each holds its quadrature nodes in memory (some 25 kB at
 #: the default nodes), so that memory does not grow with the number of levels.
-_LEVELS_PER_CHUNK = 10_000
+LEVELS_PER_CHUNK = 10_000
 
 # Gauss-Legendre rule on [0, 1] for the means of r over segments.
 _GAUSS_T, _GAUSS_W = np.polynomial.legendre.leggauss(16)
@@ -287,6 +287,7 @@ def exact_backbone(
     model: ContactModel | None = None,
     points: int = 200,
     nodes: int = 48,
+    levels_per_chunk: int = LEVELS_PER_CHUNK,
 ) -> Backbone:
     """Frequency of the free, undamped oscillation against its amplitude.
 
@@ -310,6 +311,9 @@ def exact_backbone(
         Number of levels, >= 1 (ignored when ``u_max_m`` is given).
     nodes : int
         Chebyshev-Lobatto intervals per period integral, at least 8.
+    levels_per_chunk : int
+        Levels integrated at once: memory grows with it, the numbers do not change
+        (but in the last bit of a few, where vector lengths change).
 
     Returns
     -------
@@ -333,6 +337,7 @@ def exact_backbone(
     points = check_int("points", points, 1, MAX_POINTS, why="some 20 s at the default nodes;"
                        " a finer curve is several calls")
     nodes = check_int("nodes", nodes, 8)
+    levels_per_chunk = check_int("levels_per_chunk", levels_per_chunk)
     r = restoring_force(model)
     y0 = r.y0_m
     u = _compressions(r, u_max_m, app_range_m, points)
@@ -340,9 +345,9 @@ def exact_backbone(
     loss = contact_loss_compression(r)
     flies = upper > loss
     half, a1, lower = (np.empty_like(upper) for _ in range(3))
-    for first in range(0, upper.size, _LEVELS_PER_CHUNK):
+    for first in range(0, upper.size, levels_per_chunk):
         chunk = np.zeros(upper.size, dtype=bool)
-        chunk[first:first + _LEVELS_PER_CHUNK] = True
+        chunk[first:first + levels_per_chunk] = True
         for mask, regime in ((chunk & ~flies, _in_contact), (chunk & flies, _bouncing)):
             if mask.any():
                 half[mask], a1[mask], lower[mask] = regime(r, upper[mask], nodes)

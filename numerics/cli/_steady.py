@@ -19,7 +19,8 @@ from perturb.common import (
 from perturb.model.set_option import add_model_option, model_parameters
 
 from ..steady.census import attractor_census
-from ..steady.shooting import DEFAULTS, MAX_STEPS
+from ..steady.options import MAX_STEPS
+from ..steady.shooting import DEFAULTS
 from ..steady.sweeps import DIRECTIONS, MAX_STATES, sweep
 
 __all__ = ["add_sweep_parser", "add_attractors_parser"]

@@ -29,6 +29,7 @@ from perturb import ContactModel, Response, eq26_numbers, series_orbits
 from perturb.common import Result, Status, check_int, check_positive, result
 
 from ..continuation.options import WalkOptions
+from ..steady.options import SteadyOptions
 from ..steady.shooting import SPAN_FLOOR, Batch, eigenvalues, solve_2x2
 
 __all__ = ["SeriesBranchStability", "SeriesStability", "series_stability", "DEFAULTS"]
@@ -242,7 +243,7 @@ def _shoot(model, lanes: _Roots, p_a: float, steps: int) -> _Found:
     if not n:
         return _Found(np.empty(0), np.empty(0), np.empty((0, 2), dtype=complex),
                       np.empty(0, dtype=bool))
-    batch = Batch(model, lanes.f, np.full(n, p_a), steps, _NEWTON_BATCH_TOL)
+    batch = Batch(model, lanes.f, np.full(n, p_a), steps, SteadyOptions(tol=_NEWTON_BATCH_TOL))
     index = np.arange(n)
     _, y, v, _, _ = batch.newton(index, lanes.y, lanes.v, 1, lanes.app, np.inf)
     with np.errstate(all="ignore"):

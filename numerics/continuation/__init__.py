@@ -2,8 +2,9 @@
 
 - ``period_map``: the scaled period map walked along (``PeriodMap``; ``ForceMap`` makes
   the force amplitude the continuation parameter) and its corrector;
-- ``walk``: ``continue_orbits``, the pseudo-arclength walk in f_e, with folds and period
-  doublings located;
+- ``walk``: the walks' one engine (``ArclengthWalk``: the pseudo-arclength step, Brent's
+  method for the events between two points, the edges) and ``continue_orbits``, the walk
+  in f_e, with folds and period doublings located;
 - ``force``: ``continue_in_force``, the walk in P_a at one f_e;
 - ``branch_switch``: ``switch_branch``, the period-2p branch born at a period doubling;
 - ``folds``: ``fold_curves``, folds continued in the (f_e, P_a) plane, with their cusps;

@@ -49,7 +49,6 @@ import time
 from collections.abc import Sequence
 
 import numpy as np
-from scipy.optimize import brentq
 
 from perturb import ContactModel
 from perturb.common import Result, Status, check_positive, progress, result
@@ -60,9 +59,8 @@ from .options import WalkOptions
 from .period_map import PeriodMap, Point
 from .walk import DEFAULTS as _CONTINUATION_DEFAULTS
 from .walk import (
-    LOCATE_TOL,
+    ArclengthWalk,
     Bifurcation,
-    arclength_step,
     check_options,
     check_walk,
     continue_orbits,
@@ -432,7 +430,7 @@ def _trace(fold_map: FoldMap, w, box, ds_max, max_angle, max_points):
     first = fold_map.correct(w, _E_A, w[3])
     if first is None:
         return None
-    walks = [Walk(fold_map, box, ds_max, max_angle, max_points) for _ in (0, 1)]
+    walks = [FoldWalk(fold_map, box, ds_max, max_angle, max_points) for _ in (0, 1)]
     for walk, direction in zip(walks, (-1.0, 1.0)):
         walk.run(first, direction)
     down, up = walks
@@ -445,20 +443,17 @@ def _trace(fold_map: FoldMap, w, box, ds_max, max_angle, max_points):
     return points, cusps, status, "; ".join(messages)
 
 
-class Walk:
-    """One direction of a fold curve from its seed, step by step, with the cusps met."""
+class FoldWalk(ArclengthWalk):
+    """One direction of a fold curve from its seed, step by step on the walks' one engine
+    (``walk.ArclengthWalk``, with ``WalkOptions.for_fold_curves``: patient Newton, no
+    corners), with the cusps met, until the curve leaves the box."""
 
     def __init__(self, fold_map: FoldMap, box, ds_max, max_angle, max_points):
-        self.map = fold_map
+        super().__init__(fold_map, ds_max, max_angle, max_points,
+                         fold_map.options.for_fold_curves())
         fmin, fmax, self.a_lo, self.a_hi = box
         self.f_lo, self.f_hi = fmin / fold_map.scale[2], fmax / fold_map.scale[2]
-        self.ds_max, self.max_angle, self.max_points = ds_max, max_angle, max_points
-        self.options = fold_map.options.for_fold_curves()
-        self.points: list[Point] = []
-        self.tangents: list[np.ndarray] = []
         self.cusps: list[int] = []  # the indices of the cusps in ``points``
-        self.status, self.message = Status.SUCCESS, ""
-        self.orientation = 1.0
 
     def run(self, first: Point, direction: float) -> None:
         """From ``first``, a growing (direction +1) or falling (-1) at the start, until the
@@ -468,81 +463,44 @@ class Walk:
         self._keep(first, first.tangent(along_a, self.orientation))
         ds = self.options.ds_start
         while len(self.points) < self.max_points:
-            step = self._step(ds)
+            step, ds = self._step(ds)
             if step is None:
-                _, _, f, a = self.map.physical(self.points[-1].z)
-                self._end(f"step below {self.options.ds_min:g} at f_e = {f:.6g} Hz, "
-                          f"P_a = {a:.6g} Q: Newton does not converge there")
+                _, _, f, a = self.shoot.physical(self.points[-1].z)
+                self.end(Status.FAILED, f"step below {self.options.ds_min:g} at f_e = "
+                         f"{f:.6g} Hz, P_a = {a:.6g} Q: Newton does not converge there")
                 return
             point, t, ds = step
             if self._outside(point.z):
                 self._clip(point)
                 return
             if self.tangents[-1][3] < 0 <= t[3]:  # a turns from falling to rising
-                self._cusp(point, t)
+                self._cusp(point)
             self._keep(point, t)
-        self._end(f"gave up after {self.max_points} points (max_points)")
-
-    def _end(self, message: str) -> None:
-        self.status, self.message = Status.FAILED, message
-
-    def _keep(self, point: Point, t: np.ndarray) -> None:
-        self.points.append(point)
-        self.tangents.append(t)
+        self.end(Status.FAILED, f"gave up after {self.max_points} points (max_points)")
 
     def _outside(self, w) -> bool:
         return not (self.f_lo <= w[2] <= self.f_hi and self.a_lo <= w[3] <= self.a_hi)
 
-    def _step(self, ds: float):
-        """One accepted step from the last point: (point, tangent, next ds), or None. The
-        walks' one step routine (``walk.arclength_step``) with the fold curves' options
-        (``WalkOptions.for_fold_curves``: patient Newton, no corners)."""
-        step, _, _ = arclength_step(self.map, self.points[-1].z, self.tangents[-1], ds,
-                                    self.ds_max, self.max_angle, self.orientation,
-                                    self.options, None)
-        return step
-
-    def _cusp(self, point: Point, t: np.ndarray) -> None:
+    def _cusp(self, point: Point) -> None:
         """Locate the cusp (t_a = 0) between the last point and ``point`` by Brent's method
         on the arclength, and keep it as a point of the curve."""
-        base, t_base = self.points[-1], self.tangents[-1]
-        ds = t_base @ (point.z - base.z)
-
-        def corrected(s):
-            p = self.map.correct(base.z + s * t_base, t_base, t_base @ base.z + s)
-            if p is None:
-                raise _NotLocated
-            return p, p.tangent(t_base, self.orientation)
-
-        def t_a(s):
-            if s == 0.0:
-                return t_base[3]
-            return t[3] if s == ds else corrected(s)[1][3]
-
-        try:
-            s = brentq(t_a, 0.0, ds, xtol=LOCATE_TOL)
-            cusp, t_cusp = corrected(s)
-        except _NotLocated:
-            return
-        self.cusps.append(len(self.points))
-        self._keep(cusp, t_cusp)
+        located = self.locate(self.points[-1], self.tangents[-1], point,
+                              lambda p, t: t[3], self.orientation)
+        if located is not None:
+            _, cusp, t_cusp = located
+            self.cusps.append(len(self.points))
+            self._keep(cusp, t_cusp)
 
     def _clip(self, point: Point) -> None:
         """The last point exactly on the box's edge that ``point`` crossed."""
-        last = self.points[-1]
         w = point.z
         if not self.a_lo <= w[3] <= self.a_hi:
             row, edge = _E_A, (self.a_hi if w[3] > self.a_hi else self.a_lo)
         else:
             row, edge = _E_F, (self.f_hi if w[2] > self.f_hi else self.f_lo)
-        share = (edge - row @ last.z) / (row @ w - row @ last.z)
-        clipped = self.map.correct(last.z + share * (w - last.z), row, edge)
-        if clipped is not None:
-            self._keep(clipped, clipped.tangent(self.tangents[-1], self.orientation))
+        self.clip(point, row, edge, self.tangents[-1])
 
 
-class _NotLocated(Exception):
-    pass
 
 
 def _curve(fold_map: FoldMap, points, cusps, status, message) -> tuple[FoldCurve, list[Cusp]]:

@@ -54,7 +54,8 @@ from perturb.common import Result, Status, check_choice, check_int, check_positi
 
 from ..kernels.lanes import Lanes
 from ..simulation.rk4 import check_model
-from ..steady.shooting import MAX_STEPS, PERIODS_TRIED, lane_steps, steady_states
+from ..steady.options import MAX_STEPS
+from ..steady.shooting import PERIODS_TRIED, lane_steps, steady_states
 from ..steady.sweeps import ENGINES
 from .options import WalkOptions
 from .period_map import PeriodMap, Point, floquet_multipliers
@@ -426,7 +427,7 @@ def arclength_step(shoot: PeriodMap, z: np.ndarray, t: np.ndarray, ds: float,
                    resume: float | None):
     """One accepted pseudo-arclength step from ``z`` along the unit tangent ``t``: the
     step routine of every walk (``Walk`` in f_e or P_a, branch switching, the fold
-    curves' ``folds.Walk``), of which ``kernels.walk_template.walk_steps`` is the
+    curves' ``folds.FoldWalk``), of which ``kernels.walk_template.walk_steps`` is the
     compiled twin.
 
     Newton corrects z + ds t on the plane t . (z' - z) = ds (with the options' contraction
@@ -625,30 +626,93 @@ def first_point(shoot: PeriodMap, model, value: float) -> tuple[Point | None, st
     return point, "" if point else "Newton did not polish the orbit the march reached"
 
 
-class Walk:
-    """The points of a branch and the bifurcations met, walked step by step."""
+class ArclengthWalk:
+    """The walks' one engine: the points of a branch of ``shoot`` and their tangents, each
+    step ``arclength_step``, with Brent's method along the arclength for the events met
+    between two points (``locate``) and the correction onto an edge (``clip``).
 
-    def __init__(self, shoot, fmin_hz, fmax_hz, direction, ds_max, max_angle, max_points, bar):
-        self.shoot, self.direction, self.bar = shoot, direction, bar
-        self.f_lo, self.f_hi = fmin_hz / shoot.scale[2], fmax_hz / shoot.scale[2]
+    ``shoot`` is any ``PeriodMap``: orbits in f_e (``continue_orbits``, ``switch_branch``),
+    in P_a (``ForceMap``) or the fold system in (f_e, P_a) (``folds.FoldMap``). What a walk
+    does between its steps, the events it looks for and where it stops, is its
+    subclass's: ``Walk`` (bifurcations, the band's edges) and ``folds.FoldWalk`` (cusps,
+    the box's edges)."""
+
+    def __init__(self, shoot: PeriodMap, ds_max: float, max_angle: float, max_points: int,
+                 options: WalkOptions):
+        self.shoot, self.options = shoot, options
         self.ds_max, self.max_angle, self.max_points = ds_max, max_angle, max_points
         self.points: list[Point] = []
         self.tangents: list[np.ndarray] = []
-        self.marks: list[Mark] = []
         self.status, self.message = Status.SUCCESS, ""
         self.orientation = 1.0  # the sign of det([J; t]) along the branch
         self.resume: float | None = None  # the step to resume with after a corner
+
+    def end(self, status: Status, message: str) -> None:
+        self.status, self.message = status, message
+
+    def _keep(self, point: Point, t: np.ndarray) -> None:
+        self.points.append(point)
+        self.tangents.append(t)
+
+    def _step(self, ds: float):
+        """One accepted step from the last point (``arclength_step``): ((point, tangent,
+        next ds), next ds), or (None, the ds it failed at)."""
+        step, ds, self.resume = arclength_step(
+            self.shoot, self.points[-1].z, self.tangents[-1], ds, self.ds_max,
+            self.max_angle, self.orientation, self.options, self.resume)
+        return step, ds
+
+    def locate(self, base: Point, t_base, end: Point, test, orientation: float):
+        """Brent's method on the arclength s from ``base`` towards ``end``: (s, the point
+        there, its tangent) where ``test`` (of a corrected point and its tangent, signed by
+        ``orientation``, the branch's there) is zero, to ``LOCATE_TOL``; None where Newton
+        cannot correct between the two."""
+        ds = t_base @ (end.z - base.z)
+
+        def corrected(s):
+            p = self.shoot.correct(base.z + s * t_base, t_base, t_base @ base.z + s)
+            if p is None:
+                raise _NotLocated
+            return p, p.tangent(t_base, orientation)
+
+        def g(s):
+            if s == ds:
+                return test(end, end.tangent(t_base, orientation))
+            return test(*corrected(s)) if s else test(base, t_base)
+
+        try:
+            s = brentq(g, 0.0, ds, xtol=LOCATE_TOL)
+            point, t = corrected(s)
+        except _NotLocated:
+            return None
+        return s, point, t
+
+    def clip(self, point: Point, row: np.ndarray, edge: float, reference: np.ndarray) -> None:
+        """Keep the point exactly on the edge row . z = ``edge`` between the last point and
+        ``point``, which crossed it (its tangent from ``reference``), if Newton finds it."""
+        last = self.points[-1]
+        share = (edge - row @ last.z) / (row @ point.z - row @ last.z)
+        clipped = self.shoot.correct(last.z + share * (point.z - last.z), row, edge)
+        if clipped is not None:
+            self._keep(clipped, clipped.tangent(reference, self.orientation))
+
+
+class Walk(ArclengthWalk):
+    """The points of a branch and the bifurcations met, walked step by step, through the
+    band [fmin_hz, fmax_hz] of the parameter."""
+
+    def __init__(self, shoot, fmin_hz, fmax_hz, direction, ds_max, max_angle, max_points, bar):
+        super().__init__(shoot, ds_max, max_angle, max_points, shoot.options)
+        self.direction, self.bar = direction, bar
+        self.f_lo, self.f_hi = fmin_hz / shoot.scale[2], fmax_hz / shoot.scale[2]
+        self.marks: list[Mark] = []
         self.from_edge = True  # started at the band's edge (not off a bifurcation)
         self.natural_steps = 0  # steps in the parameter alone, past corners
         # Folds met and not yet located: (index of the step's first point, the branch's
         # orientation then); ``_locate_folds`` settles them when the walk ends.
         self.pending_folds: list[tuple[int, float]] = []
-        # The walk's tuning, and its numbers as the compiled steps read them.
-        self.options = shoot.options
+        # The walk's numbers as the compiled steps read them.
         self.settings = self.options.numbers(ds_max, max_angle, self.f_lo, self.f_hi)
-
-    def end(self, status: Status, message: str) -> None:
-        self.status, self.message = status, message
 
     def run(self, first: Point, away: np.ndarray | None = None) -> None:
         """From ``first``, into the band (up or down in f) or along ``away`` (a direction
@@ -768,18 +832,6 @@ class Walk:
         point = Point(z[kept], jac[kept], mono[kept], int(iterations[kept]))
         return (point, t[kept], float(state[0])), float(state[0])
 
-    def _keep(self, point: Point, t: np.ndarray) -> None:
-        self.points.append(point)
-        self.tangents.append(t)
-
-    def _step(self, ds: float):
-        """One accepted step from the last point (``arclength_step``): ((point, tangent,
-        next ds), next ds), or (None, the ds it failed at)."""
-        step, ds, self.resume = arclength_step(
-            self.shoot, self.points[-1].z, self.tangents[-1], ds, self.ds_max,
-            self.max_angle, self.orientation, self.options, self.resume)
-        return step, ds
-
     def _bifurcations(self, point: Point, t: np.ndarray,
                       defer_folds: bool = False) -> list[tuple[str, float]]:
         """Locate the folds and period doublings between the last point and ``point``
@@ -802,7 +854,7 @@ class Walk:
             self.pending_folds.append((len(self.points) - 1, self.orientation))
             return []
         for kind in crossed:
-            located = self._locate(base, t_base, point, tests[kind], self.orientation)
+            located = self.locate(base, t_base, point, tests[kind], self.orientation)
             if located is None:
                 unlocated.append((kind, _reach(base, point)))
             else:
@@ -835,7 +887,7 @@ class Walk:
         for first, orientation in sorted(self.pending_folds, reverse=True):
             base, end = self.points[first], self.points[first + 1]
             near = turns.size and np.abs(turns - (first + 1)).min() <= self.options.near_turn
-            located = (self._locate(base, self.tangents[first], end, _fold_test, orientation)
+            located = (self.locate(base, self.tangents[first], end, _fold_test, orientation)
                        if near else None)
             if located is None:
                 self.marks.append(Mark(first + 1, "fold", False, _reach(base, end)))
@@ -849,39 +901,10 @@ class Walk:
         self.pending_folds = []
         self.marks.sort()  # in the walk's order, as _significant_folds breaks its ties
 
-    def _locate(self, base: Point, t_base, end: Point, test, orientation: float):
-        """Brent's method on the arclength s from ``base`` towards ``end``: the s where
-        ``test`` (of a corrected point and its tangent, signed by ``orientation``, the
-        branch's there) is zero, with that point."""
-        ds = t_base @ (end.z - base.z)
-
-        def corrected(s):
-            p = self.shoot.correct(base.z + s * t_base, t_base, t_base @ base.z + s)
-            if p is None:
-                raise _NotLocated
-            return p, p.tangent(t_base, orientation)
-
-        def g(s):
-            if s == ds:
-                return test(end, end.tangent(t_base, orientation))
-            return test(*corrected(s)) if s else test(base, t_base)
-
-        try:
-            s = brentq(g, 0.0, ds, xtol=LOCATE_TOL)
-            point, t = corrected(s)
-        except _NotLocated:
-            return None
-        return s, point, t
-
     def _clip(self, point: Point, t: np.ndarray) -> None:
         """The branch's last point exactly at the band's edge that ``point`` crossed."""
-        last = self.points[-1]
         edge = self.f_hi if point.z[2] >= self.f_hi else self.f_lo
-        share = (edge - last.z[2]) / (point.z[2] - last.z[2])
-        guess = last.z + share * (point.z - last.z)
-        clipped = self.shoot.correct(guess, _E_F, edge)
-        if clipped is not None:
-            self._keep(clipped, clipped.tangent(t, self.orientation))
+        self.clip(point, _E_F, edge, t)
         if self.from_edge and (edge == self.f_lo) == (self.direction > 0):
             self.end(Status.FAILED, "the branch turned back and left the band where it "
                      "started (a peak bent beyond the band, or an isola)")

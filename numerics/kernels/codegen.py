@@ -36,12 +36,14 @@ __all__ = ["compiled_kernels", "kernels_built", "acceleration_source", "cache_di
 
 _TEMPLATE = Path(__file__).with_name("kernel_template.py")
 #: The compiled sweep, appended after the kernels (it reads the steady-state engine's
-#: constants, ``numerics.steady.shooting``).
+#: constants, ``numerics.steady.shooting``, and its default options,
+#: ``numerics.steady.options``).
 _SWEEP_TEMPLATE = Path(__file__).with_name("sweep_template.py")
 #: The files whose code shapes a kernel module (a change to it generates the module again;
 #: an edit of a comment or docstring does not: ``cache_key``).
 KERNEL_SOURCES = (*MODEL_SOURCES, Path(__file__), _TEMPLATE, _SWEEP_TEMPLATE,
             Path(__file__).parents[1] / "steady" / "shooting.py",
+            Path(__file__).parents[1] / "steady" / "options.py",
             # the sweep template freezes common.Status's values into the machine code
             Path(__file__).parents[2] / "perturb" / "common" / "_status.py")
 _LOADED: dict[tuple, ModuleType] = {}

@@ -11,7 +11,8 @@ stability check, the short march that confirms it, the settling march, polish,
 recording of the extrema and the least period, the half-step error estimate with
 the stiffness test, the refinement passes with doubled steps, the statuses), in
 the same order and with the same batches of lanes, and seeds the next point as
-``numerics.steady.sweeps.sweep_points`` does. Every constant comes from ``steady.shooting``.
+``numerics.steady.sweeps.sweep_points`` does. Every constant comes from ``steady.shooting``, every
+engine decision from ``steady.options``' defaults.
 
 A point's state is held in a float table ``fl`` and an integer table ``it`` with
 one row per lane and the columns named below, plus the multipliers and the
@@ -23,35 +24,38 @@ import math
 import numba
 import numpy as np
 
-# The steady-state engine's constants: one module, read by both routes.
+# The steady-state engine's constants and its default options: read by both routes. The
+# compiled sweep is built with the default engine decisions (steady.sweep_compiled.supported).
+from numerics.steady.options import SteadyOptions
 from numerics.steady.shooting import (
     CAP_PERIODS,
     CHUNK,
-    DISTINCT_LAG,
     LANE_STEP_BUDGET,
     LONGEST_CHUNK,
-    NEWTON_ITERATIONS,
-    ORDER_FACTOR,
     PERIODS_TRIED,
-    REACH_CONTINUATION,
-    REACH_POLISH,
-    RESOLVED_OMEGA_DT,
     ROUNDOFF,
-    SHARPEN_SLACK,
     SPAN_FLOOR,
-    UNESTIMATED_SLACK,
-    UNKNOWN_AMPLIFICATION,
-    VERIFY_EARLY_SHRINK,
-    VERIFY_FIRST,
-    VERIFY_LINEAR,
-    VERIFY_PERIODS,
-    VERIFY_SHRINK,
 )
 from numerics.steady.shooting import (
     RANK as STATUS_RANK,
 )
 from perturb.common import Status
 
+_ENGINE = SteadyOptions()
+NEWTON_ITERATIONS = _ENGINE.newton_iterations
+REACH_CONTINUATION = _ENGINE.reach_continuation
+REACH_POLISH = _ENGINE.reach_polish
+DISTINCT_LAG = _ENGINE.distinct_lag
+VERIFY_PERIODS = _ENGINE.verify_periods
+VERIFY_SHRINK = _ENGINE.verify_shrink
+VERIFY_FIRST = _ENGINE.verify_first
+VERIFY_LINEAR = _ENGINE.verify_linear
+VERIFY_EARLY_SHRINK = _ENGINE.early_shrink * _ENGINE.verify_shrink
+SHARPEN_SLACK = _ENGINE.sharpen_slack
+UNESTIMATED_SLACK = _ENGINE.unestimated_slack
+RESOLVED_OMEGA_DT = _ENGINE.resolved_omega_dt
+UNKNOWN_AMPLIFICATION = _ENGINE.unknown_amplification
+ORDER_FACTOR = _ENGINE.order_factor
 _SUCCESS = int(Status.SUCCESS)
 _NOT_SETTLED = int(Status.NOT_SETTLED)
 _FAILED = int(Status.FAILED)

@@ -48,6 +48,7 @@ import numpy as np
 
 from perturb import FULL, Effects, eq26_numbers
 
+from ..steady.options import ACCURACY_FIELDS, SteadyOptions
 from ..steady.orbits import Orbits
 from .observables import observe, orbit_observables
 from .schema import Scene
@@ -324,9 +325,9 @@ def _against_full(scene, study: StudyRun, sensitive: set[float]) -> tuple[float,
 def _accuracy(study: StudyRun) -> dict:
     """The sweep's accuracy settings, for the full model's checks."""
     settings = study.outcomes[0].settings
-    return {key: settings[key] for key in ("steps_per_period", "tol", "app_rtol",
-                                           "max_periods", "method", "refinements",
-                                           "keep_orbits")}
+    options = SteadyOptions(**{name: settings[name] for name in ACCURACY_FIELDS},
+                            **settings.get("engine", {}))
+    return {"options": options, "keep_orbits": settings["keep_orbits"]}
 
 
 def _window_length(run) -> int:

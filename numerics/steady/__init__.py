@@ -3,6 +3,8 @@
 - ``shooting``: ``steady_states``, Newton shooting on the period map with time marching
   as fallback, the settling test and the step-error estimate (the steady-state engine:
   the compiled sweep, ``kernels/sweep_template``, takes its constants from here);
+- ``options``: ``SteadyOptions``, the settings of both routes (accuracy and the engine's
+  decisions), one object;
 - ``orbits``: ``Orbits``, the one record of steady-state observables;
 - ``sweeps`` and ``sweep_compiled``: ``sweep``, frequency sweeps up and down (Fig. 2, 3);
 - ``census``: ``attractor_census``, which steady states coexist and their basins
@@ -18,6 +20,7 @@ _LAZY = {
     "SteadyStates": ".shooting",
     "steady_states": ".shooting",
     "Orbits": ".orbits",
+    "SteadyOptions": ".options",
     "Sweep": ".sweeps",
     "SweepRun": ".sweeps",
     "sweep": ".sweeps",
@@ -40,6 +43,7 @@ __all__ = [
     "Census",
     "LyapunovExponents",
     "Orbits",
+    "SteadyOptions",
     "SteadyStates",
     "Sweep",
     "SweepRun",

@@ -27,8 +27,9 @@ from ..simulation.ranges import check_tested
 from ..simulation.rk4 import check_model
 from .lyapunov import DEFAULTS as LYAPUNOV_DEFAULTS
 from .lyapunov import LyapunovExponents, check_run, largest_lyapunov
+from .options import SteadyOptions, steady_options
 from .orbits import Orbits
-from .shooting import DEFAULTS, steady_states
+from .shooting import DEFAULTS, steady_settings, steady_states
 
 __all__ = ["Attractor", "Census", "attractor_census", "attractors", "censuses", "DEFAULT_GRID"]
 
@@ -165,6 +166,7 @@ def attractor_census(
     max_periods: int | None = DEFAULTS["max_periods"],
     lyapunov_periods: int | None = LYAPUNOV_PERIODS,
     unchecked: bool = False,
+    options: SteadyOptions | None = None,
 ) -> Census:
     """Find and cluster the steady states reached from a grid of initial states.
 
@@ -187,6 +189,9 @@ def attractor_census(
     unchecked : bool
         Go past the ranges of f_e, P_a and the contact where the answers are measured
         to hold (``numerics.simulation.ranges.TESTED``); refused otherwise.
+    options : SteadyOptions, optional
+        The steady-state settings as one object, in place of ``steps_per_period``,
+        ``tol`` and ``max_periods``.
 
     Examples
     --------
@@ -198,8 +203,9 @@ def attractor_census(
     f_e = check_positive("frequency_hz", frequency_hz)
     frac = check_positive("pa_frac", pa_frac, allow_zero=True)
     check_tested(f_e, frac, model, unchecked=unchecked)
-    (census,) = censuses([f_e], [frac], model=model, grid=grid,
-                         steps_per_period=steps_per_period, tol=tol, max_periods=max_periods,
+    options = steady_options(options, steps_per_period=steps_per_period, tol=tol,
+                             max_periods=max_periods)
+    (census,) = censuses([f_e], [frac], model=model, grid=grid, options=options,
                          lyapunov_periods=lyapunov_periods)
     return census
 
@@ -217,9 +223,7 @@ def censuses(
     *,
     model: ContactModel | None = None,
     grid: dict | None = None,
-    steps_per_period: int | str = DEFAULTS["steps_per_period"],
-    tol: float = DEFAULTS["tol"],
-    max_periods: int | None = DEFAULTS["max_periods"],
+    options: SteadyOptions | None = None,
     lyapunov_periods: int | None = LYAPUNOV_PERIODS,
 ) -> list[Census]:
     """``attractor_census`` at many points (f_e, P_a) at once: every lane of every point in
@@ -230,8 +234,8 @@ def censuses(
     ----------
     frequency_hz, pa_frac : array_like, shape (cells,)
         The points: f_e [Hz] (> 0) and P_a / Q (>= 0), one pair per census.
-    model, grid, steps_per_period, tol, max_periods, lyapunov_periods
-        As in ``attractor_census``.
+    model, grid, options, lyapunov_periods
+        As in ``attractor_census`` (the default options by default).
 
     Returns
     -------
@@ -240,6 +244,7 @@ def censuses(
         number of points.
     """
     model = check_model(model)
+    options = SteadyOptions() if options is None else options
     f_e = lane_array("frequency_hz", frequency_hz, positive=True)
     frac = np.broadcast_to(lane_array("pa_frac", pa_frac, f_e.size), f_e.shape)
     check_lyapunov_periods(lyapunov_periods)
@@ -252,23 +257,26 @@ def censuses(
                          "(each lane keeps its orbit): split the points.")
     found = steady_states(np.repeat(f_e, states), np.repeat(frac * model.parameters.Q_n, states),
                           model=model, y_init_m=np.tile(y, cells), v_init_m_s=np.tile(v, cells),
-                          steps_per_period=steps_per_period, tol=tol, max_periods=max_periods,
-                          keep_orbits=True)
+                          options=options, keep_orbits=True)
     y0 = eq26_numbers(model.parameters).y0_m
     groups = _cluster(found, cells, states, y0)
     unsettled, chaos = _chaos(found, np.repeat(frac, states), model, lyapunov_periods)
-    settings = census_settings(grid, states, steps_per_period, tol, max_periods,
-                               lyapunov_periods)
+    settings = census_settings(grid, states, options, lyapunov_periods)
     elapsed = (time.perf_counter() - start) / cells
     return [_census(found, cell, groups[cell], states, y0, f_e[cell], frac[cell], model,
                     settings, elapsed, unsettled, chaos) for cell in range(cells)]
 
 
-def census_settings(grid: dict | None, states: int, steps_per_period, tol: float,
-                    max_periods: int | None, lyapunov_periods: int | None) -> dict:
-    """The settings a census (and the atlas) records."""
+def census_settings(grid: dict | None, states: int, options: SteadyOptions,
+                    lyapunov_periods: int | None) -> dict:
+    """The settings a census (and the atlas) records: its own, and the steady-state
+    options' step, tol and cap, with any other option that differs from its default."""
+    recorded = ("steps_per_period", "tol", "max_periods")
+    default = SteadyOptions()
+    moved = {name: value for name, value in steady_settings(options).items()
+             if name not in recorded and value != getattr(default, name, None)}
     return {"initial_states": int(states), "grid": grid or DEFAULT_GRID,
-            "steps_per_period": steps_per_period, "tol": tol, "max_periods": max_periods,
+            **{name: getattr(options, name) for name in recorded}, **moved,
             "lyapunov_periods": lyapunov_periods,
             "cluster_tol": CLUSTER_TOL, "cluster_floor_y0": CLUSTER_FLOOR,
             "rest_fraction_y0": REST_FRACTION}

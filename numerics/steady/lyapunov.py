@@ -34,7 +34,8 @@ from perturb.common import Result, Status, check_int, lane_array, result
 
 from ..kernels.lanes import Lanes
 from ..simulation.rk4 import check_model, initial_lanes
-from .shooting import MAX_STEPS, check_steps, lane_steps
+from .options import MAX_STEPS, check_steps
+from .shooting import lane_steps
 
 __all__ = ["LyapunovExponents", "largest_lyapunov", "classify_motion", "VERDICTS", "DEFAULTS"]
 

@@ -53,7 +53,8 @@ from .census import (
     check_lyapunov_periods,
     initial_grid,
 )
-from .shooting import DEFAULTS, check_accuracy, lane_steps
+from .options import SteadyOptions, steady_options
+from .shooting import DEFAULTS, lane_steps
 
 __all__ = ["Atlas", "atlas", "MAX_LANES", "TASK_LANES", "TASK_SAMPLES"]
 
@@ -181,6 +182,8 @@ def atlas(
     lyapunov_periods: int | None = LYAPUNOV_PERIODS,
     quiet: bool = True,
     unchecked: bool = False,
+    options: SteadyOptions | None = None,
+    task_lanes: int = TASK_LANES,
 ) -> Atlas:
     """The attractor census at every cell of a grid of (f_e, P_a).
 
@@ -202,13 +205,17 @@ def atlas(
         default; 1 runs the tasks in this process). Not with ``executor``.
     initial_states : dict, optional
         The census's initial states, as ``attractors``' ``grid`` (``DEFAULT_GRID``).
-    model, steps_per_period, tol, max_periods, lyapunov_periods
-        As in ``attractors``.
+    model, steps_per_period, tol, max_periods, lyapunov_periods, options
+        As in ``attractor_census``.
     quiet : bool
         No progress bar (over the tasks) on stderr.
     unchecked : bool
         Go past the ranges of f_e, P_a and the contact where the answers are measured
         to hold (``numerics.simulation.ranges.TESTED``); refused otherwise.
+    task_lanes : int
+        About how many lanes (cells x initial states) a task holds: fewer make more,
+        smaller tasks, to spread over more workers. The results are the same, bit for
+        bit, however the grid is cut.
 
     Returns
     -------
@@ -235,12 +242,16 @@ def atlas(
                          "states.")
     frequencies, amplitudes = np.linspace(*f_axis), np.linspace(*pa_axis)
     check_tested(frequencies[[0, -1]], amplitudes[[0, -1]], model, unchecked=unchecked)
-    accuracy = _accuracy(steps_per_period, tol, max_periods, lyapunov_periods)
+    options = steady_options(options, steps_per_period=steps_per_period, tol=tol,
+                             max_periods=max_periods)
+    check_lyapunov_periods(lyapunov_periods)
+    accuracy = {"options": options, "lyapunov_periods": lyapunov_periods}
     executor, workers = _check_executor(executor, workers)
     start = time.perf_counter()
     f_cells, pa_cells = (a.ravel() for a in np.meshgrid(frequencies, amplitudes))
     rate = eq26_numbers(model.parameters).fastest_rate_per_s
-    tasks = task_cells(lane_steps(steps_per_period, f_cells, rate), states)
+    tasks = task_cells(lane_steps(options.steps_per_period, f_cells, rate), states,
+                       check_int("task_lanes", task_lanes))
     jobs = [(_run_task, f_cells[t], pa_cells[t], model, initial_states, accuracy) for t in tasks]
     note(f"atlas: {sizes[0]} x {sizes[1]} cells x {states} initial states = {lanes} lanes in "
          f"{len(jobs)} tasks; some {lanes * LANE_SECONDS:.2g} s at the rate of 2 local "
@@ -248,7 +259,7 @@ def atlas(
     outcomes, retried = _run(jobs, executor, workers, model, quiet)
     cells_found = [cell for task, outcome in zip(tasks, outcomes)
                    for cell in _cells_of(task, outcome)]
-    settings = census_settings(initial_states, states, **accuracy)
+    settings = census_settings(initial_states, states, options, lyapunov_periods)
     settings |= {"cells": [frequencies.size, amplitudes.size], "tasks": len(tasks),
                  "tasks_retried": retried, **({"unchecked": True} if unchecked else {})}
     return Atlas(frequency_hz=frequencies, pa_frac=amplitudes, model=model.as_dict(),
@@ -256,8 +267,9 @@ def atlas(
                  **_assemble(cells_found, amplitudes.size, frequencies.size))
 
 
-def task_cells(steps: np.ndarray, states: int) -> list[np.ndarray]:
-    """Consecutive cells, grouped into tasks of about TASK_LANES lanes, or TASK_SAMPLES
+def task_cells(steps: np.ndarray, states: int, task_lanes: int = TASK_LANES
+               ) -> list[np.ndarray]:
+    """Consecutive cells, grouped into tasks of about ``task_lanes`` lanes, or TASK_SAMPLES
     lane-steps if that is fewer. ``steps``: each cell's steps per period.
 
     The cut depends on the cells alone (see the module's docstring): each cell's load
@@ -265,7 +277,7 @@ def task_cells(steps: np.ndarray, states: int) -> list[np.ndarray]:
     whole unit of the running total (so it exceeds its share by less than one cell;
     a cell larger than a task is a task alone).
     """
-    load = np.maximum(states / TASK_LANES, states * steps / TASK_SAMPLES)
+    load = np.maximum(states / task_lanes, states * steps / TASK_SAMPLES)
     task = np.floor(np.cumsum(load) - load).astype(np.int64)
     return np.split(np.arange(steps.size), np.flatnonzero(np.diff(task)) + 1)
 
@@ -449,16 +461,6 @@ def _axis(low_name: str, low, high_name: str, high, points: int, positive: bool)
     if points > 1 and not low < high:
         raise ValueError(f"`{high_name}` must be above `{low_name}`, got {low!r} and {high!r}.")
     return low, high, points
-
-
-def _accuracy(steps_per_period, tol, max_periods, lyapunov_periods) -> dict:
-    """The census's accuracy settings, checked here, before any task is sent."""
-    checked = check_accuracy(steps_per_period=steps_per_period, tol=tol,
-                             app_rtol=DEFAULTS["app_rtol"], max_periods=max_periods,
-                             method="newton", refinements=DEFAULTS["refinements"])
-    check_lyapunov_periods(lyapunov_periods)
-    return {"steps_per_period": steps_per_period, "tol": checked["tol"],
-            "max_periods": checked["max_periods"], "lyapunov_periods": lyapunov_periods}
 
 
 def _states(model: ContactModel, initial_states: dict | None) -> int:

@@ -21,17 +21,17 @@ import time
 import numpy as np
 
 from perturb import ContactModel, eq26_numbers
-from perturb.common import Status, check_choice, check_int, check_positive, lane_array, result
+from perturb.common import Status, lane_array, result
 
 from ..kernels.lanes import Lanes
 from ..simulation.rk4 import check_model, initial_lanes
+from .options import ACCURACY_FIELDS, MAX_STEPS, SteadyOptions, steady_options
 from .orbits import Orbits
 
 __all__ = ["SteadyStates", "steady_states", "DEFAULTS"]
 
-#: Defaults chosen for 0.5 % accuracy of App (tests/test_steady.py shows it).
-DEFAULTS = {"steps_per_period": "auto", "tol": 1e-6, "app_rtol": 5e-3, "max_periods": None,
-            "refinements": 2}
+#: The accuracy fields' defaults, by name (``SteadyOptions``): the verbs' keyword defaults.
+DEFAULTS = {name: getattr(SteadyOptions, name) for name in ACCURACY_FIELDS if name != "method"}
 PERIODS_TRIED = (1, 2, 3, 4, 5, 6, 7, 8)
 CHUNK = 16  # periods marched between settling checks
 LONGEST_CHUNK = 4096  # ... and at most this many, far past the default cap
@@ -50,68 +50,12 @@ _AUTO_MAX_STEPS = 2**16
 #: The most RK4 steps a lane marches in one pass (some 1-5 s for one lane): the cap in
 #: periods is lowered where a period takes many steps, so that no case hangs.
 LANE_STEP_BUDGET = 2 * 10**8
-NEWTON_ITERATIONS = 10
 SPAN_FLOOR = 1e-3  # of y0: the smallest length scale of the settling test
-REACH_CONTINUATION = 0.5  # how far (relative to App) Newton may move a sweep's guess
-REACH_POLISH = 1e-2  # how far it may move a marched, settled state
-#: How far App may move when an orbit is refined (_sharpen), in units of its coarse
-#: step-error estimate: the estimate takes RK4 as second order, App(2N) - App(N) is
-#: at most about the error at N.
-SHARPEN_SLACK = 2.0
-#: ... and, where the coarse step was too coarse to estimate (omega dt above
-#: RESOLVED_OMEGA_DT at the orbit's stiffest point), this share of App: on the Fig. 2 + 3
-#: job such orbits moved by at most 1.8e-3 from 128 to 256 steps (94 of them), where a
-#: jump to another branch moves App by tens of per cent or more.
-UNESTIMATED_SLACK = 1e-2
-#: A p-periodic orbit is taken only where the lag-q stroboscopic differences of every
-#: divisor q of p exceed this many tol (_repeating_period): when lag p first repeats
-#: within tol on the way to a q-periodic orbit, lag q is about |1 - mu| tol <= 2 tol.
-DISTINCT_LAG = 10.0
-VERIFY_PERIODS = 16  # march that confirms a continued orbit attracts the previous state
-VERIFY_SHRINK = 0.5  # by how much the distance to that orbit must shrink meanwhile
-#: The approach check in two stages (Batch.follows). A lane is decided after the first
-#: VERIFY_FIRST periods where its march followed the orbit's linearisation, the
-#: monodromy matrix M Newton ended with: the deviation e_k = x_k - x* from the orbit is
-#: M^k e_0 within VERIFY_LINEAR of the first distance (measured on the Fig. 2 + 3 job and
-#: on its 5, 10, 25 and 50 Hz grids, 11,075 checks, before the Newton try after 16 periods
-#: of a march added checks: median 0.002, 90 % below 0.08). Such a
-#: lane's distance at VERIFY_PERIODS is then predicted, M^(16 - k) e_k, and it is
-#: accepted where that is below VERIFY_EARLY_SHRINK of the first distance, 0.7 of the
-#: criterion: the prediction's error was at most 0.095 of the first distance (the
-#: largest distance at 16 periods of an early lane came out 0.34, not 0.5). The other
-#: lanes march on to VERIFY_PERIODS and the criterion of one stage: their verdict is
-#: unchanged, and the early ones' verdicts agreed with it on all 11,075 checks.
-#:
-#: Why not accept a lane whose distance merely shrank by VERIFY_SHRINK after a few
-#: periods: a stable orbit (|mu| < 1) attracts its basin only, and the previous point's
-#: state can lie beyond the basin's edge, the stable manifold of a saddle orbit, which
-#: near a fold sits close to the continued orbit. Such a lane first runs along that
-#: manifold, towards the saddle and so towards the orbit too, then departs along the
-#: saddle's unstable manifold to another attractor. Measured: at 1375 Hz, 0.05 Q on the
-#: 25 Hz grid the distance fell from 0.20 to 0.06 in 4 periods, then grew to 0.18 at 16
-#: and the lane jumped (0.79 of App away after 1024 periods); on the 5 Hz grid, at 745 Hz,
-#: 0.1 Q it fell to 0.3 of the first distance in 2 periods. The multipliers say nothing
-#: of the basin's size. But such a lane leaves the orbit's linearisation on its way (the
-#: saddle is where it fails): the departing lanes' deviation from M^k e_0 after 4 periods
-#: was at least 0.099 of the first distance, 5 times VERIFY_LINEAR. Complex multipliers
-#: near |mu| = 0.9 also make the plain distance oscillate (0.65 of the first distance in
-#: 4 periods at the median, 0.25 to 3.7 in between): the linear prediction follows that,
-#: a shrink criterion at 4 periods does not.
-VERIFY_FIRST = 4
-VERIFY_LINEAR = 0.02
-VERIFY_EARLY_SHRINK = 0.7 * VERIFY_SHRINK
 _EXTREMA_PER_PERIOD = 64  # room for local extrema per period of the response
-#: The error estimate of App is trusted where omega * dt at the orbit's stiffest point is at
-#: most this. Measured on 784 steady states (P_a 0.05-0.5 Q, 250-1800 Hz, 8-128 steps per
-#: period, against 2048 steps): above 0.75 the estimate passed states whose App was wrong
-#: by more than the tolerance (at 1.0: 1.1 %); 0.5 keeps a margin of 1.5 below that.
-RESOLVED_OMEGA_DT = 0.5
 ROUNDOFF = 1e-14  # of y0: App changes below this are round-off (about 100 ulp of y0)
-#: The orbit's sensitivity 1 / (1 - |mu|) where its multipliers are not known (a lane
-#: settled by marching alone): that of |mu| = 0.9, about the paper's primary peak.
-UNKNOWN_AMPLIFICATION = 10.0
-#: 2^q - 1 with q = 2, RK4's order through the kink of loss of contact.
-ORDER_FACTOR = 3.0
+#: The engine's decisions (how far Newton may move a guess, the approach check, when an
+#: error estimate is trusted) are fields of ``SteadyOptions``, with their reasons there
+#: and in the tuning log (docs/tuning.md).
 
 
 @result
@@ -155,9 +99,9 @@ def _lane_table(points: Orbits, rows: int = 20) -> str:
 class Batch(Lanes):
     """The lanes being solved (kernels, steps, drive, limits), with their scales."""
 
-    def __init__(self, model, f_e, p_a, steps, tol):
+    def __init__(self, model, f_e, p_a, steps, options: SteadyOptions):
         super().__init__(model, f_e, p_a, steps)
-        self.tol = tol
+        self.options, self.tol = options, options.tol
         self.length = eq26_numbers(model.parameters).y0_m or 1.0
         self.omega = 2 * np.pi * f_e
         self.periods_run = np.zeros(f_e.shape[0], dtype=np.int64)
@@ -191,7 +135,7 @@ class Batch(Lanes):
         scale = self.length
         active = np.arange(lanes.shape[0])
         with np.errstate(all="ignore"):  # a lane may diverge: its values are inf or NaN
-            for iteration in range(NEWTON_ITERATIONS):
+            for iteration in range(self.options.newton_iterations):
                 idx = lanes[active]
                 yp, vp, m = y[active], v[active], np.empty((active.size, 2, 2))
                 k.shoot_periods(yp, vp, self.dt[idx], self.p_a[idx], self.drive, p, m)
@@ -218,16 +162,17 @@ class Batch(Lanes):
         Newton can continue a stable orbit whose basin no longer holds the
         previous point's state (bouncing orbits, near a fold); the paper's method
         would jump there. A short march decides, as the paper's method would: the
-        distance to the orbit must shrink by VERIFY_SHRINK in VERIFY_PERIODS. Lanes
-        whose first VERIFY_FIRST periods follow the orbit's linearisation
+        distance to the orbit must shrink by ``verify_shrink`` in ``verify_periods``.
+        Lanes whose first ``verify_first`` periods follow the orbit's linearisation
         (``monodromy``, Newton's, of p periods) are decided then, by its prediction
-        of the distance at VERIFY_PERIODS (the reasoning is beside the constants).
+        of the distance at ``verify_periods`` (``SteadyOptions``; the reasoning is in
+        the tuning log).
         The march's first p periods are ``shot``, Newton's first Phi_p(y, v): the same
         RK4 steps, not run twice.
         """
-        lanes = np.asarray(lanes)
-        full = VERIFY_PERIODS - VERIFY_PERIODS % p
-        first = max(VERIFY_FIRST - VERIFY_FIRST % p, p)
+        lanes, o = np.asarray(lanes), self.options
+        full = o.verify_periods - o.verify_periods % p
+        first = max(o.verify_first - o.verify_first % p, p)
         scale = self.scale(span)
         dy, dv = y - y_orbit, v - v_orbit
         before = self.distance(lanes, dy, dv, scale)
@@ -240,16 +185,16 @@ class Batch(Lanes):
             with np.errstate(all="ignore"):  # a diverged lane's state is inf or NaN
                 ey, ev = ym - y_orbit, vm - v_orbit
                 ly, lv = _propagate(monodromy, dy, dv, first // p)
-                linear = self.distance(lanes, ey - ly, ev - lv, scale) <= VERIFY_LINEAR * before
+                linear = self.distance(lanes, ey - ly, ev - lv, scale) <= o.verify_linear * before
                 py, pv = _propagate(monodromy, ey, ev, (full - first) // p)
                 predicted = self.distance(lanes, py, pv, scale)
-            early = linear & (predicted < VERIFY_EARLY_SHRINK * before)
+            early = linear & (predicted < o.early_shrink * o.verify_shrink * before)
         rest = np.flatnonzero(~early)
         ym_rest, vm_rest = ym[rest], vm[rest]
         self._march_verify(lanes[rest], ym_rest, vm_rest, full - marched)
         ym[rest], vm[rest] = ym_rest, vm_rest
         after = self.distance(lanes, ym - y_orbit, vm - v_orbit, scale)
-        return early | (after < VERIFY_SHRINK * before) | (after < self.tol)
+        return early | (after < o.verify_shrink * before) | (after < self.tol)
 
     def _march_verify(self, lanes, y, v, periods):
         """Advance the approach check's lanes by ``periods`` in place (failures are not
@@ -329,7 +274,7 @@ class Batch(Lanes):
         # after p periods too (near a period doubling a multiplier near -1 makes lag 2
         # repeat within tol while lag 1 is still at about 2 tol: a period-1 orbit was
         # passed as period 2). It marches on until q is reached, or its cap.
-        distinct = d.min(axis=2) >= DISTINCT_LAG * self.tol
+        distinct = d.min(axis=2) >= self.options.distinct_lag * self.tol
         for i, p in enumerate(periods):
             divides = (periods < p) & (p % periods == 0)
             reached[:, i] &= distinct[:, divides].all(axis=1)
@@ -384,6 +329,7 @@ def steady_states(
     method: str = "newton",
     refinements: int = DEFAULTS["refinements"],
     keep_orbits: bool = False,
+    options: SteadyOptions | None = None,
 ) -> SteadyStates:
     """Find the steady state reached from each lane's initial state.
 
@@ -435,6 +381,9 @@ def steady_states(
         settle. ``steps_used`` says which step each result comes from.
     keep_orbits : bool
         Also keep y after every step of each orbit (``orbit_y_m``).
+    options : SteadyOptions, optional
+        All of the settings above but ``keep_orbits``, and the engine's own decisions,
+        as one object (then none of those keywords may be given beside it).
 
     Returns
     -------
@@ -451,23 +400,22 @@ def steady_states(
     ['20.58 nm', '211.48 nm']
     """
     model = check_model(model)
-    accuracy = check_accuracy(steps_per_period=steps_per_period, tol=tol, app_rtol=app_rtol,
-                              max_periods=max_periods, method=method, refinements=refinements)
-    tol, app_rtol = accuracy["tol"], accuracy["app_rtol"]
-    max_periods, refinements = accuracy["max_periods"], accuracy["refinements"]
+    options = steady_options(options, steps_per_period=steps_per_period, tol=tol,
+                             app_rtol=app_rtol, max_periods=max_periods, method=method,
+                             refinements=refinements)
     guesses = check_period_guess(period_guess)
     f_e, p_a, y, v, guess, span = initial_lanes(
         frequency_hz, p_a_n, y_init_m, v_init_m_s, model, period_guess=guesses.astype(np.int64),
         app_guess_m=lane_array("app_guess_m", 0.0 if app_guess_m is None else app_guess_m))
     start = time.perf_counter()
     numbers = eq26_numbers(model.parameters)
-    steps = lane_steps(steps_per_period, f_e, numbers.fastest_rate_per_s)
-    cap = settling_cap(f_e, numbers, max_periods)
-    solve = dict(model=model, tol=tol, app_rtol=app_rtol, cap=cap, method=method,
+    steps = lane_steps(options.steps_per_period, f_e, numbers.fastest_rate_per_s)
+    cap = settling_cap(f_e, numbers, options.max_periods)
+    solve = dict(model=model, options=options, cap=cap,
                  continuation=app_guess_m is not None, keep_orbits=keep_orbits)
     lanes = np.arange(f_e.shape[0])
     state = _solve_by_steps(lanes, steps, f_e, p_a, y, v, guess, span, **solve)
-    for level in range(1, refinements + 1):
+    for level in range(1, options.refinements + 1):
         # A lane that failed, did not settle, settled with p > 1 or too coarsely may be
         # under-resolved (a short impact takes few steps): solved again with twice the steps.
         redo = np.flatnonzero(~state.settled | (state.period > 1)
@@ -475,35 +423,21 @@ def steady_states(
         if not redo.size:
             break
         finer_steps = np.minimum(steps * 2**level, MAX_STEPS)
-        if method == "newton":
+        if options.method == "newton":
             redo = _sharpen(state, redo, finer_steps, f_e, p_a, solve)
         if redo.size:
             finer = _solve_by_steps(redo, finer_steps, f_e, p_a, y, v, guess, span, **solve)
             _merge(state, redo, finer)
-    settings = {"steps_per_period": steps_per_period, "tol": tol, "app_rtol": app_rtol,
-                "max_periods": max_periods, "method": method, "refinements": refinements}
+    settings = steady_settings(options)
     return SteadyStates(**state.columns(), model=model.as_dict(), settings=settings,
                         elapsed_s=time.perf_counter() - start)
 
 
-#: The most steps per period any pass takes, refinements included (a drive table of
-#: 2^21 + 1 numbers; a period of one lane then takes a few milliseconds).
-MAX_STEPS = 2**20
-_MAX_REFINEMENTS = 8
-
-
-def check_accuracy(*, steps_per_period, tol, app_rtol, max_periods, method,
-                   refinements) -> dict:
-    """``steady_states``' accuracy settings, checked (a ValueError names a bad one)."""
-    check_choice("method", method, ("newton", "march"))
-    refinements = check_int("refinements", refinements, minimum=0, maximum=_MAX_REFINEMENTS,
-                            why="each doubles the steps")
-    check_steps(steps_per_period, refinements)
-    return {"steps_per_period": steps_per_period, "tol": check_positive("tol", tol),
-            "app_rtol": None if app_rtol is None else check_positive("app_rtol", app_rtol),
-            "max_periods": None if max_periods is None else check_int("max_periods",
-                                                                      max_periods),
-            "method": method, "refinements": refinements}
+def steady_settings(options: SteadyOptions) -> dict:
+    """A result's ``settings`` of these options: the accuracy fields, and the engine's
+    decisions that differ from the defaults (``"engine"``), if any."""
+    changes = options.engine_changes()
+    return options.accuracy() | ({"engine": changes} if changes else {})
 
 
 def check_period_guess(period_guess) -> np.ndarray:
@@ -513,15 +447,6 @@ def check_period_guess(period_guess) -> np.ndarray:
     if not np.isin(guesses, PERIODS_TRIED).all():
         raise ValueError(f"`period_guess` must be one of {PERIODS_TRIED}, got {period_guess!r}.")
     return guesses
-
-
-def check_steps(steps_per_period, refinements: int = 0) -> None:
-    """``"auto"`` or an integer >= 4 whose refinements stay within MAX_STEPS, or a
-    ValueError naming the argument."""
-    if steps_per_period != "auto":
-        check_int("steps_per_period", steps_per_period, minimum=4,
-                  maximum=MAX_STEPS // 2**refinements,
-                  why=f"with {refinements} refinement(s) doubling it, at most {MAX_STEPS}")
 
 
 def settling_cap(frequency_hz: np.ndarray, numbers, max_periods: int | None) -> np.ndarray:
@@ -558,10 +483,10 @@ def _solve_by_steps(lanes, steps, f_e, p_a, y, v, guess, span, **solve) -> Orbit
     return state
 
 
-def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, cap, method,
+def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, options: SteadyOptions, cap,
            continuation, keep_orbits, polish_only: bool = False) -> Orbits:
     """One pass at a fixed step: Newton continuation, then marching and polishing
-    (``polish_only``: Newton from orbits found at fewer steps, within REACH_POLISH, and
+    (``polish_only``: Newton from orbits found at fewer steps, within ``reach_polish``, and
     nothing else: ``_sharpen``).
 
     A sweep runs the compiled twin of this pass and of what it calls
@@ -570,7 +495,8 @@ def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, c
     f_e, p_a, y, v, guess, span, cap = (a[lanes] for a in (f_e, p_a, y, v, guess, span, cap))
     # A bounded time: no more than LANE_STEP_BUDGET steps per lane in this pass.
     cap = np.minimum(cap, max(LANE_STEP_BUDGET // steps, CHUNK))
-    batch = Batch(model, f_e, p_a, steps, tol)
+    batch = Batch(model, f_e, p_a, steps, options)
+    method, app_rtol = options.method, options.app_rtol
     state = Orbits.empty(f_e, p_a, steps)
     failed_period = np.full(lanes.size, -1, dtype=np.int64)
     if method == "newton" and continuation:
@@ -578,7 +504,8 @@ def _solve(lanes, f_e, p_a, y, v, guess, span, *, model, steps, tol, app_rtol, c
         for p in np.unique(guess):
             group = np.flatnonzero(guess == p)
             _newton_from(batch, state, group, y[group], v[group], int(p), span[group],
-                         REACH_POLISH if polish_only else REACH_CONTINUATION, "newton",
+                         options.reach_polish if polish_only else options.reach_continuation,
+                         "newton",
                          check=not polish_only)
     rest = np.flatnonzero(~state.settled)
     if rest.size and not polish_only:
@@ -622,7 +549,8 @@ def _march(batch: Batch, state: Orbits, rest, y, v, guess, cap, failed_period,
         for p in np.unique(guess[moving]):
             chosen = moving[guess[moving] == p]
             _newton_from(batch, state, rest[chosen], ym[chosen], vm[chosen], int(p),
-                         span[chosen], REACH_CONTINUATION, "march+newton", check=True)
+                         span[chosen], batch.options.reach_continuation, "march+newton",
+                         check=True)
         on = moving[~state.settled[rest[moving]]]
         period[on], ym[on], vm[on], span[on] = batch.march(rest[on], ym[on], vm[on], cap[on],
                                                            failed_period, done=CHUNK)
@@ -635,7 +563,7 @@ def _march(batch: Batch, state: Orbits, rest, y, v, guess, cap, failed_period,
         if newton:
             # Polish: the marched state is within about tol of the orbit.
             ok = _newton_from(batch, state, group, marched_y, marched_v, int(p), span[chosen],
-                              REACH_POLISH, "march+newton", check=False)
+                              batch.options.reach_polish, "march+newton", check=False)
             group, marched_y, marched_v = group[~ok], marched_y[~ok], marched_v[~ok]
         _accept(state, group, marched_y, marched_v, int(p), None, "march")
 
@@ -658,7 +586,7 @@ def _fate(state: Orbits, batch: Batch, failed_period, cap: np.ndarray,
     state.status[coarse] = Status.UNDER_RESOLVED
     for lane in coarse:
         state.message[lane] = under_resolved_message(state.error_estimate[lane], app_rtol,
-                                                     batch.steps)
+                                                     batch.steps, batch.options.resolved_omega_dt)
     failed = failed_period >= 0
     state.status[failed] = Status.FAILED
     if failed.any():
@@ -669,12 +597,13 @@ def _fate(state: Orbits, batch: Batch, failed_period, cap: np.ndarray,
         state.message[lane] = not_settled_message(cap[lane])
 
 
-def under_resolved_message(estimate: float, app_rtol: float, steps: int) -> str:
+def under_resolved_message(estimate: float, app_rtol: float, steps: int,
+                           resolved_omega_dt: float = SteadyOptions.resolved_omega_dt) -> str:
     """Why a settled lane is under-resolved."""
     why = (f"App's estimated step error {estimate:.2g} exceeds app_rtol={app_rtol:g}"
            if np.isfinite(estimate) else
            f"the step is too coarse for the contact's stiffest point (omega*dt > "
-           f"{RESOLVED_OMEGA_DT:g}), so App's error cannot be estimated")
+           f"{resolved_omega_dt:g}), so App's error cannot be estimated")
     return (f"under-resolved: {why} at {steps} steps per period; "
             "raise steps_per_period or refinements")
 
@@ -703,7 +632,7 @@ def _sharpen(state: Orbits, redo: np.ndarray, steps: np.ndarray, f_e, p_a, solve
     Only orbits that Newton continued from the lane's initial state and that passed
     the approach check are refined so: the finer orbit is that orbit, moved by the
     step's error, so it needs neither the approach check nor a march, and Newton from
-    it, within REACH_POLISH, is all it takes (tests/benchmarks/bench_sweep.py times
+    it, within ``reach_polish``, is all it takes (tests/benchmarks/bench_sweep.py times
     the saving). An orbit the coarse pass marched to is solved again from the initial
     state: the coarse map's attractors can differ from the fine one's (a review found a
     32-step march at 0.1 Q, 755 Hz reaching a 34 nm orbit where the 128-step one
@@ -717,10 +646,12 @@ def _sharpen(state: Orbits, redo: np.ndarray, steps: np.ndarray, f_e, p_a, solve
                             polish_only=True)
     # The same orbit, refined: App moves by about the coarse estimate, not more. (Without
     # this, a 16-step down sweep at 0.3 Q left the bouncing branch for a small orbit whose
-    # start lay within REACH_POLISH of it: tests/test_hard_cases.py.)
+    # start lay within reach_polish of it: tests/test_hard_cases.py.)
     moved = np.abs(sharp.app_m - state.app_m[coarse])
     estimate = state.error_estimate[coarse]
-    slack = np.where(np.isfinite(estimate), SHARPEN_SLACK * estimate, UNESTIMATED_SLACK)
+    options = solve["options"]
+    slack = np.where(np.isfinite(estimate), options.sharpen_slack * estimate,
+                     options.unestimated_slack)
     found = ((sharp.settled | (sharp.status == Status.UNDER_RESOLVED))
              & (moved <= slack * state.app_m[coarse]))
     _merge(state, coarse[found], sharp.take(np.flatnonzero(found)))
@@ -810,14 +741,15 @@ def _estimate_step_error(batch: Batch, state: Orbits) -> None:
     of contact RK4's order falls to 2: q = 2 is taken. One period sees the error made in one
     period; the periodic orbit itself moves by that error times 1 / (1 - |mu|), mu
     the largest Floquet multiplier (near a resonance, |mu| nears 1), so the change
-    is scaled by it (by UNKNOWN_AMPLIFICATION where the multipliers are not known).
+    is scaled by it (by ``unknown_amplification`` where the multipliers are not known).
     A change below round-off of y (ROUNDOFF y0) is taken as that round-off: a tiny
     App is known only to it. The comparison holds only in RK4's asymptotic range:
-    where omega * dt at the stiffest point of the orbit exceeds RESOLVED_OMEGA_DT
+    where omega * dt at the stiffest point of the orbit exceeds ``resolved_omega_dt``
     the error cannot be estimated, and the estimate is inf (the lane is refined).
     """
     settled = np.flatnonzero(state.settled)
-    resolved = _stiffest_omega_dt(batch, state, settled) <= RESOLVED_OMEGA_DT
+    options = batch.options
+    resolved = _stiffest_omega_dt(batch, state, settled) <= options.resolved_omega_dt
     state.error_estimate[settled[~resolved]] = np.inf  # no half-step run for these
     settled = settled[resolved]
     if not settled.size:
@@ -826,9 +758,9 @@ def _estimate_step_error(batch: Batch, state: Orbits) -> None:
     half = _orbit_app(batch, state, settled, max(batch.steps // 2, 2))
     largest = np.abs(state.multipliers[settled]).max(axis=1)
     with np.errstate(all="ignore"):
-        amplification = np.where(largest < 1, 1 / (1 - largest), UNKNOWN_AMPLIFICATION)
+        amplification = np.where(largest < 1, 1 / (1 - largest), options.unknown_amplification)
         floor = ROUNDOFF * batch.length
-        change = np.maximum(np.abs(app - half), floor) * amplification / ORDER_FACTOR
+        change = np.maximum(np.abs(app - half), floor) * amplification / options.order_factor
         # An App at round-off itself is rest: there is nothing to resolve.
         estimate = np.where(app <= floor, 0.0, change / app)
     state.error_estimate[settled] = np.nan_to_num(estimate, nan=np.inf)

@@ -19,10 +19,9 @@ from perturb.common import Status, check_int, processors
 
 from ..kernels.codegen import compiled_kernels
 from ..kernels.lanes import divergence_limit, drive_table, failure_message
+from .options import MAX_STEPS, SteadyOptions
 from .orbits import Orbits
 from .shooting import (
-    MAX_STEPS,
-    check_accuracy,
     check_period_guess,
     lane_steps,
     not_settled_message,
@@ -38,10 +37,11 @@ class DriverUnusable(RuntimeError):
     (a truncated or garbled numba cache file), not the call."""
 
 
-def supported(accuracy: dict) -> bool:
-    """Whether the compiled driver does what ``steady_states`` does with these settings
-    (it does not keep the orbits' histories)."""
-    return not accuracy.get("keep_orbits", False)
+def supported(options: SteadyOptions, keep_orbits: bool = False) -> bool:
+    """Whether the compiled driver does what ``steady_states`` does with these settings:
+    it is built with the default engine decisions (``SteadyOptions.engine_is_default``),
+    and it does not keep the orbits' histories."""
+    return options.engine_is_default() and not keep_orbits
 
 
 #: The sweep is cut into blocks of points lasting about this long [s], so that the
@@ -77,9 +77,10 @@ def deal_lanes(lanes: int, count: int) -> list[np.ndarray]:
     return [np.flatnonzero(group == k) for k in range(count)]
 
 
-def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps_per_period,
-                         tol, app_rtol, max_periods, method, refinements,
-                         keep_orbits=False, done=None, threads: int | None = None) -> Orbits:
+def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *,
+                         options: SteadyOptions, keep_orbits=False, done=None,
+                         threads: int | None = None,
+                         block_seconds: float = BLOCK_SECONDS) -> Orbits:
     """``sweeps.sweep_points`` in compiled calls, a block of points at a time (each block
     continues from the last good orbit of every lane, as a point does): the points,
     frequency by frequency. ``done(points)`` is called as blocks end (from the groups'
@@ -89,13 +90,14 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
     ``sweep_threads``). A lane's arithmetic is its own, whatever lanes share its batch,
     so the points are those of one sweep of all lanes, to the last bit
     (tests/test_sweep_compiled.py). An error in one group stops the others after their
-    block, and is raised."""
-    if keep_orbits:
-        raise ValueError("the compiled sweep does not keep orbits; use the Python route")
-    accuracy = check_accuracy(steps_per_period=steps_per_period, tol=tol, app_rtol=app_rtol,
-                              max_periods=max_periods, method=method, refinements=refinements)
-    tol, app_rtol = accuracy["tol"], accuracy["app_rtol"]
-    max_periods, refinements = accuracy["max_periods"], accuracy["refinements"]
+    block, and is raised. Each call sweeps a block of points lasting about
+    ``block_seconds`` (the first block is one point, to measure the time per point)."""
+    if not supported(options, keep_orbits):
+        raise ValueError("the compiled sweep keeps no orbits and is built with the default "
+                         f"engine decisions (changed: {options.engine_changes()}); use the "
+                         "Python route")
+    steps_per_period, tol, app_rtol = options.steps_per_period, options.tol, options.app_rtol
+    max_periods, method, refinements = options.max_periods, options.method, options.refinements
     # The driver's argument types are fixed (a new type would compile it once more).
     freq = np.ascontiguousarray(freq, dtype=float)
     p_a = np.ascontiguousarray(np.broadcast_to(p_a, freq.shape[:1]), dtype=float)
@@ -125,7 +127,7 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
         try:
             return _sweep_group(kernels, freq[group], p_a[group], steps[group], cap[group],
                          limit[group], seed, continued, settings, app_rtol,
-                         numbers.fastest_rate_per_s, report, stop)
+                         numbers.fastest_rate_per_s, report, stop, block_seconds)
         except BaseException:
             stop.set()  # the other groups stop after their block
             raise
@@ -145,7 +147,7 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *, steps
 
 
 def _sweep_group(kernels, freq, p_a, steps, cap, limit, seed, continued, settings, app_rtol, rate,
-          done, stop: threading.Event) -> Orbits:
+                 done, stop: threading.Event, block_seconds: float) -> Orbits:
     """One group of lanes swept, a block of points per call, until the end or ``stop``."""
     blocks, first, size = [], 0, 1
     while first < freq.shape[1] and not stop.is_set():
@@ -160,7 +162,7 @@ def _sweep_group(kernels, freq, p_a, steps, cap, limit, seed, continued, setting
         if done is not None:
             done(points)
         per_point = (time.perf_counter() - started) / points
-        first, size = block.stop, max(1, int(BLOCK_SECONDS / max(per_point, 1e-9)))
+        first, size = block.stop, max(1, int(block_seconds / max(per_point, 1e-9)))
     return Orbits.stack(blocks)
 
 

@@ -19,13 +19,23 @@ import warnings
 import numpy as np
 
 from perturb import ContactModel, eq26_numbers
-from perturb.common import Result, Status, check_choice, lane_array, lookup, progress, result
+from perturb.common import (
+    Result,
+    Status,
+    check_choice,
+    check_int,
+    lane_array,
+    lookup,
+    progress,
+    result,
+)
 
 from ..kernels.codegen import CacheWarning, forget_sweep_driver, sweep_driver_built
 from ..simulation.ranges import check_tested
 from ..simulation.rk4 import check_model
+from .options import SteadyOptions, check_steps, steady_options
 from .orbits import Orbits, fates
-from .shooting import DEFAULTS, check_steps, steady_states
+from .shooting import DEFAULTS, steady_settings, steady_states
 from .sweep_compiled import DriverUnusable, supported, sweep_lanes_compiled
 
 __all__ = ["SweepRun", "Sweep", "sweep", "DIRECTIONS"]
@@ -140,6 +150,8 @@ def sweep(
     quiet: bool = True,
     engine: str = "auto",
     unchecked: bool = False,
+    options: SteadyOptions | None = None,
+    max_checked_steps: int = MAX_CHECKED_STEPS,
 ) -> Sweep:
     """Sweep the excitation frequency up and/or down for each force amplitude.
 
@@ -164,6 +176,16 @@ def sweep(
     unchecked : bool
         Go past the ranges of f_e, P_a and the contact where the answers are measured
         to hold (``numerics.simulation.ranges.TESTED``); refused otherwise.
+    options : SteadyOptions, optional
+        The steady-state settings as one object, in place of ``steps_per_period``,
+        ``tol``, ``app_rtol``, ``max_periods``, ``method`` and ``refinements``. The
+        compiled route is built with the default engine decisions: other decisions
+        take the Python route.
+    max_checked_steps : int
+        Steps between neighbouring points whose App changes by more than
+        ``JUMP_RATIO`` are checked for a jump with the full model (``SweepRun.jumped``);
+        a sweep with more such steps than this checks none, and its runs' ``jumped`` is
+        None: jumps by App's change alone (0: no check, the cheapest sweep).
 
     Examples
     --------
@@ -180,7 +202,9 @@ def sweep(
     fracs = lane_array("pa_frac", pa_frac)
     if np.unique(fracs).size != fracs.size:
         raise ValueError(f"`pa_frac` must not repeat an amplitude, got {fracs.tolist()}.")
-    check_steps(steps_per_period)
+    options = steady_options(options, steps_per_period=steps_per_period, tol=tol,
+                             app_rtol=app_rtol, max_periods=max_periods, method=method,
+                             refinements=refinements)
     check_tested(grid, fracs, model, unchecked=unchecked)
     directions = ("up", "down") if direction == "both" else (direction,)
     states = grid.size * fracs.size * len(directions)
@@ -195,21 +219,17 @@ def sweep(
     p_a = np.array([frac for frac, _ in lanes]) * model.parameters.Q_n
 
     start = time.perf_counter()
-    points = sweep_points(freq, p_a, model, quiet, steps_per_period=steps_per_period, tol=tol,
-                          app_rtol=app_rtol, max_periods=max_periods, method=method,
-                          refinements=refinements, keep_orbits=keep_orbits, engine=engine)
+    points = sweep_points(freq, p_a, model, quiet, options=options, keep_orbits=keep_orbits,
+                          engine=engine)
     runs = [
         SweepRun(pa_frac=float(frac), direction=d,
                  **points.take(np.arange(i, points.status.size, len(lanes))).columns())
         for i, (frac, d) in enumerate(lanes)
     ]
-    _check_jumps(runs, model, steps_per_period=steps_per_period, tol=tol,
-                 app_rtol=app_rtol, max_periods=max_periods, method=method,
-                 refinements=refinements)
+    _check_jumps(runs, model, options,
+                 check_int("max_checked_steps", max_checked_steps, minimum=0))
     settings = {"frequency_hz": grid.tolist(), "pa_frac": fracs.tolist(), "direction": direction,
-                "steps_per_period": steps_per_period, "tol": tol, "app_rtol": app_rtol,
-                "max_periods": max_periods,
-                "method": method, "refinements": refinements, "keep_orbits": keep_orbits,
+                **steady_settings(options), "keep_orbits": keep_orbits,
                 **({"unchecked": True} if unchecked else {})}
     return Sweep(model=model.as_dict(), settings=settings, runs=runs,
                  elapsed_s=time.perf_counter() - start)
@@ -242,7 +262,8 @@ def _beyond_errors(run: SweepRun, i: int) -> bool:
     return bool(abs(run.app_m[i] - run.app_m[i - 1]) > error.sum())
 
 
-def _check_jumps(runs: list[SweepRun], model: ContactModel, **accuracy) -> None:
+def _check_jumps(runs: list[SweepRun], model: ContactModel, options: SteadyOptions,
+                 most: int) -> None:
     """Set ``jumped`` on every run: whether the sweep left its branch at each step where
     App changes by more than ``JUMP_RATIO`` between two orbits (settled or
     under-resolved). A smooth peak on a coarse grid changes by more than the ratio at
@@ -257,8 +278,8 @@ def _check_jumps(runs: list[SweepRun], model: ContactModel, **accuracy) -> None:
     (reached from either end) is a jump; a smooth change shrinks with the half and a
     jump does not, so the step also jumps where the last half still holds a quarter of
     the step's change. A point where no orbit is found (neither settled nor
-    under-resolved) counts as a jump. A sweep with more than ``MAX_CHECKED_STEPS``
-    candidate steps is not checked (``jumped`` stays None). Nor is a change of App within
+    under-resolved) counts as a jump. A sweep with more than ``most`` candidate steps
+    is not checked (``jumped`` stays None). Nor is a change of App within
     the two orbits' own error estimates (App at the round-off of y, under-resolved).
     """
     steps = []  # (run, i): the step from point i-1 to point i
@@ -267,7 +288,7 @@ def _check_jumps(runs: list[SweepRun], model: ContactModel, **accuracy) -> None:
         run.jumped = np.zeros(run.status.size, dtype=bool)
         steps += [(run, int(i)) for i in _candidates(run.app_m)
                   if good[i] and good[i - 1] and _beyond_errors(run, i)]
-    if len(steps) > MAX_CHECKED_STEPS:  # past the bound: no run is checked, and each
+    if len(steps) > most:  # past the bound: no run is checked, and each
         for run in runs:  # says so (``jumped`` None: App's ratio alone)
             run.jumped = None
         return
@@ -279,7 +300,7 @@ def _check_jumps(runs: list[SweepRun], model: ContactModel, **accuracy) -> None:
     app_lo, app_hi = column("app_m", 1), column("app_m", 0)
     back = steady_states(f_lo, p_a, model=model, y_init_m=column("y_start_m", 0),
                          v_init_m_s=column("v_start_m_s", 0), period_guess=column("period", 0),
-                         app_guess_m=app_hi, **accuracy)
+                         app_guess_m=app_hi, options=options)
     jumped = ~back.orbit_found | (back.period != column("period", 1)) | (
         np.abs(back.app_m / app_lo - 1) > 0.01)
     same = np.flatnonzero(~jumped)
@@ -288,12 +309,12 @@ def _check_jumps(runs: list[SweepRun], model: ContactModel, **accuracy) -> None:
                  **{name: column(key, shift)[same] for name, key in (
                      ("y", "y_start_m"), ("v", "v_start_m_s"), ("period", "period"))}}
                 for f, app, shift in ((f_lo[same], app_lo, 1), (f_hi[same], app_hi, 0))]
-        jumped[same] = _jump_within(*ends, model, accuracy)
+        jumped[same] = _jump_within(*ends, model, options)
     for (run, i), jump in zip(steps, jumped):
         run.jumped[i] = jump
 
 
-def _jump_within(lo: dict, hi: dict, model, accuracy) -> np.ndarray:
+def _jump_within(lo: dict, hi: dict, model, options: SteadyOptions) -> np.ndarray:
     """Whether each step holds a jump, by bisection (``_check_jumps``). ``lo`` and
     ``hi`` hold, per step, the frequency ``f``, the force ``p_a`` and the orbit (``y``,
     ``v``, ``period``, ``app``) at its two ends; every step of the batch moves together.
@@ -313,7 +334,7 @@ def _jump_within(lo: dict, hi: dict, model, accuracy) -> np.ndarray:
             **{f"{key}": np.concatenate([lo[name][active], hi[name][active]])
                for key, name in (("y_init_m", "y"), ("v_init_m_s", "v"),
                                  ("period_guess", "period"), ("app_guess_m", "app"))},
-            **accuracy)
+            options=options)
         n = active.size
         good = both.orbit_found
         good = good[:n] & good[n:]
@@ -336,30 +357,34 @@ def _jump_within(lo: dict, hi: dict, model, accuracy) -> np.ndarray:
 
 
 def sweep_points(freq, p_a, model, quiet, start: Orbits | None = None, *,
-                 engine: str = "auto", **accuracy) -> Orbits:
+                 options: SteadyOptions | None = None, keep_orbits: bool = False,
+                 engine: str = "auto") -> Orbits:
     """Walk every lane through its frequencies; the points, frequency by frequency.
 
     ``engine="compiled"`` runs the whole sweep in one compiled call (where it supports
-    the settings: not with ``keep_orbits``), "python" point by point with
-    ``steady_states``; both give the same points (tests/test_sweep_compiled.py).
+    the settings: not with ``keep_orbits``, nor with other engine decisions than the
+    defaults), "python" point by point with ``steady_states``; both give the same points
+    (tests/test_sweep_compiled.py).
     """
     check_choice("engine", engine, ENGINES)
-    points = _points_by_engine(freq, p_a, model, quiet, start, engine, **accuracy)
+    options = SteadyOptions() if options is None else options
+    solve = {"options": options, "keep_orbits": keep_orbits}
+    points = _points_by_engine(freq, p_a, model, quiet, start, engine, **solve)
     for row, seed_row in _unresolved_jumps(points, freq.shape[0]):
-        if not _resweep_finer(points, row, seed_row, freq, p_a, model, engine, accuracy):
+        if not _resweep_finer(points, row, seed_row, freq, p_a, model, engine, solve):
             _flag(points, row, seed_row)
     return points
 
 
-def _points_by_engine(freq, p_a, model, quiet, start, engine, **accuracy) -> Orbits:
+def _points_by_engine(freq, p_a, model, quiet, start, engine, **solve) -> Orbits:
     """``sweep_points``' points by the engine asked for."""
     chosen = engine
     if engine == "auto":
         engine = "compiled" if sweep_driver_built(model) else "python"
-    if engine == "compiled" and supported(accuracy):
+    if engine == "compiled" and supported(**solve):
         bar = progress(freq.shape[1], "sweep", quiet=quiet)
         try:
-            points = sweep_lanes_compiled(freq, p_a, model, start, done=bar.update, **accuracy)
+            points = sweep_lanes_compiled(freq, p_a, model, start, done=bar.update, **solve)
         except DriverUnusable as error:
             forget_sweep_driver(model)  # the next call that asks for it compiles it again
             if chosen != "auto":
@@ -367,14 +392,14 @@ def _points_by_engine(freq, p_a, model, quiet, start, engine, **accuracy) -> Orb
             warnings.warn(f"{error}; its cache files are removed, this sweep takes the "
                           f"Python route", CacheWarning, stacklevel=2)
             bar.close()
-            return _sweep_lanes_python(freq, p_a, model, quiet, start, **accuracy)
+            return _sweep_lanes_python(freq, p_a, model, quiet, start, **solve)
         bar.close()
         return points
-    return _sweep_lanes_python(freq, p_a, model, quiet, start, **accuracy)
+    return _sweep_lanes_python(freq, p_a, model, quiet, start, **solve)
 
 
 def _sweep_lanes_python(freq, p_a, model, quiet, start: Orbits | None = None,
-                        **accuracy) -> Orbits:
+                        **solve) -> Orbits:
     """The sweep point by point, one ``steady_states`` call per frequency.
 
     Each point starts from the orbit of the last point that settled, under-resolved
@@ -395,7 +420,7 @@ def _sweep_lanes_python(freq, p_a, model, quiet, start: Orbits | None = None,
     bar = progress(freq.shape[1], "sweep", quiet=quiet)
     for j in range(freq.shape[1]):
         point = steady_states(freq[:, j], p_a, model=model, y_init_m=y, v_init_m_s=v,
-                              period_guess=period, app_guess_m=continued, **accuracy)
+                              period_guess=period, app_guess_m=continued, **solve)
         # A settled orbit seeds the next point, an under-resolved one too (it is an
         # orbit, only its error estimate is above app_rtol); a failed or unsettled one never.
         good = point.orbit_found
@@ -438,7 +463,7 @@ def _unresolved_jumps(points: Orbits, lanes: int) -> list[tuple[int, int]]:
 
 
 def _resweep_finer(points: Orbits, row: int, seed_row: int, freq, p_a, model, engine,
-                   accuracy: dict) -> bool:
+                   solve: dict) -> bool:
     """Sweep the lane of ``row`` again from its seed's orbit, from ``row`` to its end, at
     twice the steps its seed was found with (and its refinements beyond), and put those
     points in place of its own: where the finer map's branch ends is where it jumps now.
@@ -452,12 +477,13 @@ def _resweep_finer(points: Orbits, row: int, seed_row: int, freq, p_a, model, en
     point, lane = divmod(row, lanes)
     finer = 2 * int(points.steps_used[seed_row])
     try:
-        check_steps(finer, accuracy["refinements"])
+        check_steps(finer, solve["options"].refinements)
     except ValueError:
         return False
+    finer_options = solve["options"].replace(steps_per_period=finer)
     again = sweep_points(freq[lane:lane + 1, point:], p_a[lane:lane + 1], model, True,
                          start=points.take([seed_row]), engine=engine,
-                         **(accuracy | {"steps_per_period": finer}))
+                         **(solve | {"options": finer_options}))
     points.put(np.arange(row, points.status.size, lanes), again)
     return True
 

@@ -328,6 +328,7 @@ def frequency_response(
     engine: str = "auto",
     truncation: str = "consistent",
     allow_slow: bool = False,
+    frequencies_per_chunk: int = FREQUENCIES_PER_CHUNK,
 ) -> Response:
     """Every response of the order-N series of the equation in contact at each frequency.
 
@@ -377,6 +378,9 @@ def frequency_response(
     allow_slow : bool
         Take an order above the one measured to take about a minute
         (``perturb.series.slow_orders``: 24); refused otherwise.
+    frequencies_per_chunk : int
+        Frequencies solved together: memory grows with it (some 20 MB at the
+        default), the branches do not change.
 
     Returns
     -------
@@ -407,6 +411,7 @@ def frequency_response(
     grid_points = check_int("grid_points", grid_points, minimum=2)
     samples = check_int("samples", samples, minimum=3)
     tolerance = check_positive("tolerance", tolerance)
+    frequencies_per_chunk = check_int("frequencies_per_chunk", frequencies_per_chunk)
     check_choice("engine", engine, ENGINES)
     resolved = truncation_for(truncation, parameters)
     solve = _chunk_solver(engine, order, resolved)
@@ -419,7 +424,7 @@ def frequency_response(
         # Frequencies are independent: solved a chunk at a time, memory stays bounded.
         parts = [solve(values, G, Omega[chunk], order, omega_range, grid_points,
                        samples, tolerance, chunk.start)
-                 for chunk in _chunks(freq.size, FREQUENCIES_PER_CHUNK)]
+                 for chunk in _chunks(freq.size, frequencies_per_chunk)]
         rows, roots, a0, u_min, u_max, valid, error = (np.concatenate(column)
                                                        for column in zip(*parts))
         branches = _branches(freq, rows, roots, a0, u_min, u_max, valid, error)

@@ -50,7 +50,6 @@ from .truncation import Truncation
 __all__ = ["KernelSeries", "kernel_series", "scheme_lanes"]
 
 _JIT = {"cache": True, "error_model": "numpy"}  # numpy's rules: x / 0 is inf, no exception
-_CHUNK = 4096  # lanes per kernel call in ``KernelSeries.evaluate`` (6 MB of buffers at N = 8)
 
 
 @numba.njit(**_JIT)
@@ -229,8 +228,12 @@ class KernelSeries(NumericSeries):
 
     The kernel takes one value of each coefficient for all lanes (as every caller passes:
     the contact's k_j, d_j); coefficients that vary over the lanes are evaluated by
-    ``NumericSeries``. Its attributes are ``NumericSeries``'.
+    ``NumericSeries``. Its attributes are ``NumericSeries``', and ``lanes_per_call``.
     """
+
+    #: Lanes per kernel call, in buffers that are reused (6 MB of them at N = 8): memory
+    #: stays bounded, the values do not change.
+    lanes_per_call: int = 4096
 
     def evaluate(self, A0: npt.ArrayLike, omega: npt.ArrayLike, Omega: npt.ArrayLike,
                  c: npt.ArrayLike, *coefficients: npt.ArrayLike,
@@ -254,7 +257,7 @@ class KernelSeries(NumericSeries):
         values = {(n, k): np.empty(size, dtype=complex if k else float) for n, k in held}
         # A chunk of lanes at a time, in buffers that are reused: (N+1, N+2, L) buffers for
         # all lanes at once would hold 0.7 GB at 500,000 lanes and order 8, most of it 0.
-        chunk = max(1, min(size, _CHUNK))
+        chunk = max(1, min(size, self.lanes_per_call))
         b_part, z_re, z_im = np.empty((rows, chunk)), *np.empty((2, rows, columns, chunk))
         for start in range(0, size, chunk):
             part = slice(start, min(start + chunk, size))

@@ -19,13 +19,12 @@ import sys
 import tempfile
 import time
 from pathlib import Path
-from unittest import mock
 
 import numpy as np
 
 from numerics import sweep
 from numerics.kernels import compiled_kernels
-from numerics.steady import sweep_compiled, sweeps
+from numerics.steady import sweep_compiled
 from perturb import PAPER, PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel, eq26_numbers
 
 from ._textbook import PARAMETERS, brute_force_sweep, dop853_point
@@ -90,15 +89,6 @@ def in_one_thread(job):
     return run
 
 
-def _without_jump_check(job):
-    """``job`` with the sweep's jump check left out (``SweepRun.jumps`` then falls back
-    to App's ratio between neighbours)."""
-    def run():
-        with mock.patch.object(sweeps, "_check_jumps", lambda runs, model, **accuracy: None):
-            return job()
-    return run
-
-
 def _json_seconds(result) -> tuple[float, float]:
     """Medians, in turns: ``to_json`` of the job's result, and the text the json module
     gives with an indent (the pure-Python encoder) of the same data."""
@@ -122,8 +112,10 @@ def main() -> None:
     # 11 pairs: at load 1.0 (2026-11-23), with 7, the checked job took 0.221 s here and
     # 0.165 s in its pairs with the Python route just before: the machine, not the check.
     warm_checked, warm_unchecked = interleaved_medians(job, unchecked, repeats=11)
-    jumps_checked, jumps_unchecked = interleaved_medians(job, _without_jump_check(job),
-                                                         repeats=9)
+    # max_checked_steps=0: no jump check (``SweepRun.jumps`` then falls back to App's ratio).
+    without_check = lambda: sweep(GRID, PAPER_PANEL_FRACTIONS, engine="compiled",  # noqa: E731
+                                  max_checked_steps=0)
+    jumps_checked, jumps_unchecked = interleaved_medians(job, without_check, repeats=9)
     cold, cold_python = cold_start(), cold_start("python")
     brute, brute_gap = brute_force(result)
     scipy_s = dop853(result)

@@ -11,9 +11,6 @@ median of STUDY_REPEATS, after a first run that derives and compiles the series'
 
 from __future__ import annotations
 
-from unittest import mock
-
-from paper_checks import work_precision as work_precision_module
 from paper_checks.work_precision import work_precision
 
 from ._timing import header, interleaved_medians, row
@@ -24,8 +21,7 @@ DOP853_RTOL_BEFORE = (1e-3, 1e-5, 1e-7, 1e-9, 1e-11)
 
 
 def _study_before() -> None:
-    with mock.patch.object(work_precision_module, "DOP853_RTOL", DOP853_RTOL_BEFORE):
-        work_precision(truncation="paper")
+    work_precision(truncation="paper", dop853_rtols=DOP853_RTOL_BEFORE)
 
 
 def main() -> None:

@@ -43,7 +43,8 @@ def _kernel_files() -> set[str]:
     return {p.name for p in cache_dir().glob("kernel_*.py")}
 
 
-def main(argv: list[str] | None = None) -> int:
+def build_parser() -> argparse.ArgumentParser:
+    """The command line of ``python -m paper_checks``."""
     parser = argparse.ArgumentParser(prog="python -m paper_checks", description=__doc__)
     add_version(parser)
     parser.add_argument("--quick", action="store_true", help="coarser grids (for tests)")
@@ -58,6 +59,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int_at_least(1), default=None,
                         help="worker processes that run the scenes and draw their figures "
                              "(default: one per processor; 1: all in this process)")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
     args = parser.parse_args(argv)
     args.parser, args.run = parser, _run
     return run_command(args)  # what goes wrong is said in one line, never a traceback

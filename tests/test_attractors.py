@@ -22,7 +22,7 @@ def test_three_resonances_coexist_at_490_hz():
     period_one = {a.label for a in census.attractors if a.period == 1}
     assert period_one == {"primary", "1/2 superharmonic", "1/3 superharmonic"}, census
     # Beyond the paper: exactly one more, a period-2 bouncing orbit with a small basin
-    # (measured: App 19.9 um, basin 2.0 %; see README).
+    # (measured: App 19.9 um, basin 2.0 %; see docs/tutorial-fig2.md).
     (two,) = [a for a in census.attractors if a.period != 1]
     assert two.period == 2 and two.contact_lost, census
     assert 15e-6 < two.app_m < 25e-6 and two.basin_fraction < 0.05, census

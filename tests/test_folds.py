@@ -141,7 +141,7 @@ def test_the_folds_command_rejects_a_bad_band():
 
 
 def test_the_fold_curves_go_on_through_loss_of_contact():
-    # The box of the README's figure. Each switch of the contact located within its
+    # The box of the docs' figure. Each switch of the contact located within its
     # step, the period map is smooth between switches, and the curves go on where the
     # fold's orbit bounces: those of the 1/2, 1/3 and 1/4 superharmonics reach the box's
     # edge at 300 Hz (with the steps straight over y = 0 they stopped at 592, 422 and

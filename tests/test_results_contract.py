@@ -171,18 +171,8 @@ def test_every_json_key_is_in_the_glossary(name, instances):
     assert keys <= set(GLOSSARY), sorted(keys - set(GLOSSARY))
 
 
-def test_the_readme_shows_the_glossary():
-    from pathlib import Path
-
-    readme = (Path(__file__).parents[1] / "README.md").read_text(encoding="utf-8")
-    assert glossary_table() in readme, (
-        "the README's glossary differs from perturb/common/_glossary.py: paste the output of "
-        "`python -c 'from perturb.common import glossary_table; print(glossary_table())'` "
-        "between its <!-- glossary --> marks")
-
-
 def test_every_glossary_row_has_its_four_cells(monkeypatch):
-    # A | in a meaning once cut the ds_max row short in the README (a review found it).
+    # A | in a meaning once cut the ds_max row short in the glossary (a review found it).
     import re
 
     import perturb.common._glossary as glossary

@@ -14,14 +14,11 @@ EXAMPLES = sorted((Path(__file__).parent.parent / "paper_checks" / "scenes" / "e
 TEST_FRAMES = 6
 
 
-def test_there_are_the_nine_examples_the_readme_lists():
+def test_there_are_the_nine_examples_the_gallery_shows():
     names = {p.stem for p in EXAMPLES}
     assert names == {"linear-contact", "superharmonic-birth", "bouncing", "other-contact",
                      "effects-at-740hz", "continuation", "folds", "atlas",
                      "softer-contact-backbone"}
-    readme = (Path(__file__).parent.parent / "README.md").read_text(encoding="utf-8")
-    for name in names:
-        assert f"examples/{name}.toml" in readme, name
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)

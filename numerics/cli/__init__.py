@@ -35,7 +35,7 @@ EXAMPLES = {
     "sweep": "python -m numerics sweep --pa-frac 0.1 --fmin 500 --fmax 1500 --points 21",
     "attractors": "python -m numerics attractors --pa-frac 0.5 --fe 490",
     "compare": "python -m numerics compare --orders 2 4 --pa-frac 0.05",
-    "scene": "python -m numerics scene paper_checks/scenes/examples/linear-contact.toml",
+    "scene": "python -m numerics scene linear-contact",
     "continue": "python -m numerics continue --pa-frac 0.05 --fmin 1300 --fmax 1600",
     "atlas": ("python -m numerics atlas --fmin 1150 --fmax 1550 --pa-min 0.02 --pa-max 0.08 "
               "--grid 21 8"),

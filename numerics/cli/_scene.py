@@ -1,4 +1,5 @@
-"""`python -m numerics scene FILE.toml`: run a scene, print its summary, write its outputs."""
+"""`python -m numerics scene FILE.toml|NAME`: run a scene, print its summary, write its
+outputs; `--list` lists the bundled scenes."""
 
 from __future__ import annotations
 
@@ -13,7 +14,11 @@ __all__ = ["add_scene_parser"]
 
 def add_scene_parser(sub) -> None:
     parser = sub.add_parser("scene", help="run a scene: a study written as a TOML file")
-    parser.add_argument("file", metavar="FILE.toml", help="the scene (see docs/scenes.md)")
+    parser.add_argument("file", metavar="FILE.toml|NAME", nargs="?",
+                        help="the scene file, or the name of a bundled scene (--list)")
+    parser.add_argument("--list", action="store_true",
+                        help="list the bundled scenes (the paper's figures and the "
+                             "examples) and stop")
     parser.add_argument("--out", type=output_dir, metavar="DIR",
                         help="folder for the figures and files the scene asks for "
                              "(default: out/scenes/NAME, NAME the file's stem)")
@@ -26,13 +31,20 @@ def add_scene_parser(sub) -> None:
 
 def _scene(args: argparse.Namespace) -> int:
     from ..scenes import SceneError, read_scene, run_scene
+    from ..scenes.bundled import find_scene, scene_list
 
+    if args.list:
+        print(scene_list())
+        return 0
+    if args.file is None:
+        args.parser.error("a scene file or a bundled scene's name is required (--list)")
     try:
-        scene = read_scene(args.file)
-    except SceneError as error:  # one line, no traceback: the file, the key, the value
+        path = find_scene(args.file)
+        scene = read_scene(path)
+    except (SceneError, FileNotFoundError) as error:  # one line: the file, the key, the value
         print(f"error: {error}", file=sys.stderr)
         return 2
-    out = Path(args.out) if args.out else Path("out") / "scenes" / Path(args.file).stem
+    out = Path(args.out) if args.out else Path("out") / "scenes" / path.stem
     try:
         run = run_scene(scene, out=out, json=args.json, quiet=args.quiet)
     except ValueError as error:  # a value the schema let through and the study refused

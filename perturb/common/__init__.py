@@ -8,7 +8,7 @@
 - progress on stderr (``_progress.py``, through tqdm), and the processors to use
   (``_processors.py``);
 - a package's names imported at first use (``_lazy.py``);
-- ``GLOSSARY``: one name per quantity (``_glossary.py``, shown in the README).
+- ``GLOSSARY``: one name per quantity (``_glossary.py``, the docs site's glossary page).
 
 It imports neither sympy nor numba, so the command lines can start without them.
 """

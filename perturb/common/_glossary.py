@@ -1,7 +1,7 @@
 """One name per quantity: the names of every argument, result field and JSON key.
 
-The README's glossary table is ``glossary_table()``; a test checks that the two
-agree and that every field of every result class is named here. Units are SI
+The docs site's glossary page is ``glossary_table()``, rendered at every build
+(docs/hooks.py); a test checks that every field of every result class is named here. Units are SI
 and part of the name where the quantity has one (``_m``, ``_hz``, ``_s``).
 """
 
@@ -388,7 +388,7 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
 
 
 def glossary_table() -> str:
-    """The glossary as a Markdown table (the README shows it)."""
+    """The glossary as a Markdown table (the docs site's glossary page)."""
     rows = ["| name | meaning | unit | paper |", "|---|---|---|---|"]
     rows += ["| " + " | ".join([f"`{name}`", *map(_cell, entry)]) + " |"
              for name, entry in GLOSSARY.items()]

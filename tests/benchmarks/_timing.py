@@ -6,7 +6,11 @@ import statistics
 import time
 from collections.abc import Callable
 
-__all__ = ["median_time", "interleaved_medians", "row", "header"]
+__all__ = ["median_time", "interleaved_medians", "row", "header", "RECORD"]
+
+#: Every header and row printed in this process, in order: what ``make bench`` writes
+#: for the docs site's benchmark page (``python -m tests.benchmarks --record FILE``).
+RECORD: list[dict] = []
 
 
 def median_time(function: Callable[[], object], repeats: int = 5) -> float:
@@ -33,6 +37,7 @@ def interleaved_medians(first: Callable[[], object], second: Callable[[], object
 
 
 def header(title: str) -> None:
+    RECORD.append({"section": title, "rows": []})
     print(f"\n## {title}")
     print(f"{'figure':<52} {'value':>14} {'baseline':>14} {'ratio':>9}")
 
@@ -44,6 +49,11 @@ def row(name: str, value: float, baseline: float | None = None, unit: str = "",
     ``ratio=False`` prints the baseline without a ratio, for figures whose ratio
     means nothing (an error at rounding level against one of order 1).
     """
+    if not RECORD:
+        RECORD.append({"section": "", "rows": []})
+    entry = {"figure": name, "value": value, "baseline": baseline, "unit": unit,
+             "ratio": None}
+    RECORD[-1]["rows"].append(entry)
     if baseline is None:
         print(f"{name:<52} {value:>11.4g} {unit:<2}")
         return
@@ -51,4 +61,5 @@ def row(name: str, value: float, baseline: float | None = None, unit: str = "",
         print(f"{name:<52} {value:>11.4g} {unit:<2} {baseline:>11.4g} {unit:<2} {'-':>8} ")
         return
     ratio = value / baseline if higher_is_better else baseline / value
+    entry["ratio"] = ratio
     print(f"{name:<52} {value:>11.4g} {unit:<2} {baseline:>11.4g} {unit:<2} {ratio:>8.1f}x")

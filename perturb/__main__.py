@@ -121,7 +121,7 @@ def _response(args: argparse.Namespace) -> None:
                                   allow_slow=args.allow_slow)
     note(f"done in {response.elapsed_s:.2f} s", quiet=args.quiet)
     if args.json:
-        write_json(args.json, response)
+        response.to_json(args.json)
         note(f"wrote {args.json}", quiet=args.quiet)
     print(response)
 

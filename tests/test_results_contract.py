@@ -180,3 +180,25 @@ def test_every_glossary_row_has_its_four_cells(monkeypatch):
     monkeypatch.setitem(glossary.GLOSSARY, "piped", ("|z| of a vector", "1", ""))
     for line in glossary_table().splitlines():
         assert len(re.split(r"(?<!\\)\|", line)) == 6, line  # 4 cells between 5 bars
+
+
+def test_a_result_file_says_where_it_comes_from(tmp_path):
+    # The file carries its provenance; the object's as_dict does not (the same input
+    # gives the same as_dict, whenever and wherever it runs).
+    import json
+    from importlib import metadata
+
+    from numerics import load, simulate
+
+    run = simulate([1000.0], 0.1, periods=20)
+    run.to_json(tmp_path / "run.json")
+    written = json.loads((tmp_path / "run.json").read_text(encoding="utf-8"))
+    provenance = written.pop("provenance")
+    assert written == json.loads(json.dumps(run.as_dict()))
+    assert provenance["version"] == metadata.version("contact-resonances")
+    assert set(provenance["libraries"]) == {"numpy", "scipy", "sympy", "numba"}
+    assert provenance["written_utc"].endswith("+00:00")
+    commit = provenance["commit"]
+    assert commit is None or len(commit.split("+")[0]) == 40
+    assert load(tmp_path / "run.json").provenance == provenance
+    assert "provenance" not in run.as_dict()

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from perturb.common import int_at_least, note, output_file, positive_float, write_json
+from perturb.common import int_at_least, note, output_file, positive_float
 from perturb.model.set_option import add_model_option, model_parameters
 
 __all__ = ["add_backbone_parser"]
@@ -63,6 +63,6 @@ def _backbone(args: argparse.Namespace) -> int:
     note(f"backbone: {args.points} energy levels{span} ...", quiet=args.quiet)
     backbone = exact_backbone(app_range_m=app_range, points=args.points,
                               model=ContactModel(parameters))
-    write_json(args.json, backbone.as_dict())  # before printing: a closed pipe loses nothing
+    backbone.to_json(args.json)  # before printing: a closed pipe loses nothing
     print(backbone)
     return 0

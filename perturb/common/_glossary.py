@@ -88,6 +88,9 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "alpha": ("what the backbone series' variable is: a / y0 (consistent) or h a / omega0^2 "
               "(Eq. 2.6's series)", "", "Eq. 2.7"),
     "elapsed_s": ("wall time of the computation", "s", ""),
+    "provenance": ("where a result file comes from: the toolkit's `version` and `commit` (in a "
+                   "git checkout; \"+changes\" when its files differ from it), the `python` "
+                   "and `libraries` versions, and when it was `written_utc`", "", ""),
     "settings": ("the settings a result was computed with", "", ""),
     "kind": ("JSON only: the class of the result, for `load`; of a bifurcation: fold or "
              "period-doubling", "", ""),

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ._json import jsonable, write_json
+from ._provenance import provenance
 from ._status import Status
 
 __all__ = ["Result", "result", "load", "from_dict", "RESULT_CLASSES"]
@@ -72,8 +73,9 @@ class Result:
         return data
 
     def to_json(self, path: str | Path) -> None:
-        """Write ``as_dict()`` to ``path`` (UTF-8, strict JSON)."""
-        write_json(path, self)  # as_dict() once: its lists are not walked again
+        """Write ``as_dict()`` to ``path`` (UTF-8, strict JSON), with the file's
+        ``"provenance"``: versions, commit and when it was written."""
+        write_json(path, _Written(self))  # as_dict() once: its lists are not walked again
 
     @classmethod
     def from_dict(cls, data: dict):
@@ -86,6 +88,16 @@ class Result:
                   if f.name in data}
         _check_values(cls, values)
         return cls(**values)
+
+
+class _Written:
+    """A result as its file holds it: ``as_dict()`` and the file's provenance."""
+
+    def __init__(self, result: Result):
+        self.result = result
+
+    def as_dict(self) -> dict:
+        return self.result.as_dict() | {"provenance": provenance()}
 
 
 def _check_values(cls, values: dict) -> None:
@@ -185,7 +197,10 @@ def from_dict(data: dict):
             f"not a result of this toolkit: `kind` is {kind!r}; known kinds: "
             f"{sorted(RESULT_CLASSES)}."
         )
-    return RESULT_CLASSES[kind].from_dict(data)
+    found = RESULT_CLASSES[kind].from_dict(data)
+    if isinstance(data.get("provenance"), dict):  # a file's: where it comes from
+        found.provenance = data["provenance"]
+    return found
 
 
 def _import_result_classes(kind) -> None:

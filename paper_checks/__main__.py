@@ -34,7 +34,7 @@ import atexit  # noqa: E402
 import gc  # noqa: E402
 import sys  # noqa: E402
 
-from perturb.common import add_version, int_at_least, output_dir, run_command  # noqa: E402
+from perturb.common import add_version, int_at_least, output_dir, program, run_command  # noqa: E402
 
 
 def _kernel_files() -> set[str]:
@@ -45,7 +45,7 @@ def _kernel_files() -> set[str]:
 
 def build_parser() -> argparse.ArgumentParser:
     """The command line of ``python -m paper_checks``."""
-    parser = argparse.ArgumentParser(prog="python -m paper_checks", description=__doc__)
+    parser = argparse.ArgumentParser(prog=program("paper_checks"), description=__doc__)
     add_version(parser)
     parser.add_argument("--quick", action="store_true", help="coarser grids (for tests)")
     parser.add_argument("--out", default="out", type=output_dir,

@@ -10,7 +10,7 @@ from pathlib import Path
 from numerics.cli._info import format_info
 from numerics.comparison.table import format_comparison
 from perturb import text_report
-from perturb.common import processors, write_atomically, write_json
+from perturb.common import processors, provenance, write_atomically, write_json
 
 from .claims import Claim
 from .figures import draw_figures
@@ -137,9 +137,15 @@ def write_report(out: Path, quick: bool = False, started: float | None = None,
     compiled = len(kernel_files()) - kernels_cached_before if kernel_files else 0
     this_run = {"wall_s": elapsed, "kernels_compiled": compiled, "quick": quick}
     lines += [""] + _runs_section(out, this_run)
+    origin = provenance()
+    lines += ["", f"Toolkit {origin['version']}"
+              + (f" (commit {origin['commit']})" if origin["commit"] else "")
+              + f", Python {origin['python']}, "
+              + ", ".join(f"{name} {v}" for name, v in origin["libraries"].items())
+              + f"; written {origin['written_utc']}."]
     payload = {"claims": [c.as_dict() for c in claims], "elapsed_s": elapsed,
                "timings": scene.timings, "work_precision": work.as_dict(),
-               "figures": figures, "quick": quick, "run": this_run}
+               "figures": figures, "quick": quick, "run": this_run, "provenance": origin}
     write_json(out / "report.json", payload)
     # The report last, whole or not at all (the old one was removed at the start).
     write_atomically(out / "report.md", "\n".join(lines) + "\n")

@@ -40,6 +40,7 @@ from perturb.common import (
     note,
     output_file,
     positive_float,
+    program,
     progress,
     run_command,
     write_atomically,
@@ -140,7 +141,7 @@ EXAMPLES = {
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m perturb", description=DESCRIPTION)
+    parser = argparse.ArgumentParser(prog=program("perturb"), description=DESCRIPTION)
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     commands = parser.add_subparsers(dest="command", required=True)
     order = int_at_least(0)

@@ -38,7 +38,8 @@ def test_every_page_is_in_the_navigation_once():
 
     config = yaml.safe_load((ROOT / "mkdocs.yml").read_text(encoding="utf-8"))
     pages = _nav_pages(config["nav"])
-    assert sorted(pages) == sorted(p.name for p in DOCS.glob("*.md")), pages
+    notebooks = [f"notebooks/{p.name}" for p in (DOCS / "notebooks").glob("*.ipynb")]
+    assert sorted(pages) == sorted([p.name for p in DOCS.glob("*.md")] + notebooks), pages
     assert len(pages) == len(set(pages))
 
 
@@ -159,9 +160,10 @@ def test_the_console_scripts_run_each_command():
     from importlib import metadata
 
     version = metadata.version("contact-resonances")
-    for script, prog in (("contact-numerics", "numerics"), ("contact-perturb", "perturb"),
-                         ("contact-paper-checks", "paper_checks")):
+    for script in ("contact-numerics", "contact-perturb", "contact-paper-checks"):
         path = Path(sys.executable).parent / script
         done = subprocess.run([str(path), "--version"], capture_output=True, text=True)
         assert done.returncode == 0, (script, done.stderr)
-        assert done.stdout == f"python -m {prog} {version}\n"
+        assert done.stdout == f"{script} {version}\n"
+        usage = subprocess.run([str(path), "--help"], capture_output=True, text=True).stdout
+        assert usage.startswith(f"usage: {script} "), usage

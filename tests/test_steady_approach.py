@@ -40,7 +40,7 @@ def staged_against_one_stage(points, most):
     grid = np.linspace(*PAPER_BAND_HZ, points)
     staged = sweep(grid, PAPER_PANEL_FRACTIONS, engine="python")
     single = sweep(grid, PAPER_PANEL_FRACTIONS, engine="python", options=ONE_STAGE)
-    assert single.settings["engine"] == {"verify_first": DEFAULT.verify_periods}
+    assert single.settings["steady_options"] == {"verify_first": DEFAULT.verify_periods}
     assert_same_points(staged, single)
     assert periods_run(staged) <= most * periods_run(single)
 
@@ -71,7 +71,7 @@ def test_a_lane_that_approaches_then_departs_is_not_accepted_early():
     after = batch.distance([0], ym - y_orbit, vm - v_orbit, scale)
     assert after[0] < DEFAULT.verify_shrink * before[0]  # measured 0.31 of it
     # ... but it left the orbit's linearisation (by 0.36 of the first distance, 18 times
-    # VERIFY_LINEAR), so the check marches on, and rejects it.
+    # `verify_linear`), so the check marches on, and rejects it.
     ly, lv = shooting._propagate(monodromy, y - y_orbit, v - v_orbit, DEFAULT.verify_first)
     deviation = batch.distance([0], ym - y_orbit - ly, vm - v_orbit - lv, scale)
     assert deviation[0] > 10 * DEFAULT.verify_linear * before[0]

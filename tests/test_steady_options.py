@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from numerics import SteadyOptions, attractor_census, steady_states, sweep
+from numerics import SteadyOptions, atlas, attractor_census, steady_states, sweep
 from numerics.steady import options as options_module
 from numerics.steady.sweep_compiled import supported
 from perturb import PAPER
@@ -35,6 +35,9 @@ def test_every_field_is_checked_and_the_error_names_it(field, bad):
 def test_the_approach_check_cannot_decide_after_it_ends():
     with pytest.raises(ValueError, match="`verify_first` must be at most `verify_periods`"):
         SteadyOptions(verify_first=17)
+    # ... nor end before one whole orbit of the longest period sought (8).
+    with pytest.raises(ValueError, match="`verify_periods` must be an integer >= 8"):
+        SteadyOptions(verify_periods=4, verify_first=4)
 
 
 def test_the_options_round_trip_through_json():
@@ -49,7 +52,7 @@ def test_the_options_round_trip_through_json():
 
 def test_the_verbs_keyword_defaults_are_the_options_defaults():
     # One source of the defaults: each verb's accuracy keywords default to the fields'.
-    for verb in (steady_states, sweep, attractor_census):
+    for verb in (steady_states, sweep, attractor_census, atlas):
         for name, parameter in inspect.signature(verb).parameters.items():
             if name in options_module.ACCURACY_FIELDS:
                 assert parameter.default == getattr(SteadyOptions, name), (verb, name)
@@ -58,6 +61,9 @@ def test_the_verbs_keyword_defaults_are_the_options_defaults():
 def test_a_keyword_beside_options_is_refused_naming_it():
     with pytest.raises(ValueError, match="`steps_per_period` given beside `options`"):
         sweep([1000.0], 0.05, steps_per_period=256, options=SteadyOptions())
+    # One left at its default defers to the options.
+    assert steady_states([1000.0], 0.1, tol=1e-6,
+                         options=SteadyOptions(tol=1e-8)).settings["tol"] == 1e-8
     with pytest.raises(TypeError, match="`options` must be a SteadyOptions"):
         steady_states([1000.0], 0.1, options={"tol": 1e-6})
 
@@ -86,8 +92,8 @@ def test_the_engine_decisions_change_the_python_route_and_are_recorded():
     assert continued(SteadyOptions()).method.tolist() == ["newton"]
     held = continued(tight)
     assert held.method.tolist() == ["march+newton"]
-    assert held.settings["engine"] == {"reach_continuation": 1e-12}
-    assert "engine" not in first.settings
+    assert held.settings["steady_options"] == {"reach_continuation": 1e-12}
+    assert "steady_options" not in first.settings
 
 
 def test_the_compiled_sweep_takes_the_default_engine_only():
@@ -96,7 +102,7 @@ def test_the_compiled_sweep_takes_the_default_engine_only():
     assert not supported(SteadyOptions(), keep_orbits=True)
     # Asked for, the compiled route passes other decisions to the Python route.
     run = sweep([1000.0], 0.05, engine="compiled", options=SteadyOptions(verify_first=16))
-    assert run.settings["engine"] == {"verify_first": 16} and run.runs[0].settled.all()
+    assert run.settings["steady_options"] == {"verify_first": 16} and run.runs[0].settled.all()
 
 
 def _attributes_read(path: Path) -> set[str]:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from perturb.common import add_version, describe, run_command
+from perturb.common import add_version, describe, program, run_command
 
 from ._atlas import add_atlas_parser
 from ._backbone import add_backbone_parser
@@ -44,7 +44,7 @@ EXAMPLES = {
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m numerics", description=DESCRIPTION)
+    parser = argparse.ArgumentParser(prog=program("numerics"), description=DESCRIPTION)
     sub = parser.add_subparsers(dest="command", required=True)
     for add in (add_info_parser, add_backbone_parser, add_sweep_parser, add_attractors_parser,
                 add_compare_parser, add_scene_parser, add_continue_parser, add_atlas_parser,

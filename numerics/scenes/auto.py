@@ -326,7 +326,7 @@ def _accuracy(study: StudyRun) -> dict:
     """The sweep's accuracy settings, for the full model's checks."""
     settings = study.outcomes[0].settings
     options = SteadyOptions(**{name: settings[name] for name in ACCURACY_FIELDS},
-                            **settings.get("engine", {}))
+                            **settings.get("steady_options", {}))
     return {"options": options, "keep_orbits": settings["keep_orbits"]}
 
 

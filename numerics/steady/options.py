@@ -29,6 +29,9 @@ ACCURACY_FIELDS = ("steps_per_period", "tol", "app_rtol", "max_periods", "method
 #: The most steps per period any pass takes, refinements included (a drive table of
 #: 2^21 + 1 numbers; a period of one lane then takes a few milliseconds).
 MAX_STEPS = 2**20
+#: The longest period an orbit is sought with (``shooting.PERIODS_TRIED``): the approach
+#: check marches at least one whole orbit of it.
+LONGEST_PERIOD = 8
 _MAX_REFINEMENTS = 8
 
 
@@ -72,7 +75,8 @@ class SteadyOptions:
         every divisor q of p exceed this many ``tol``: when lag p first repeats within
         tol on the way to a q-periodic orbit, lag q is about |1 - mu| tol <= 2 tol.
     verify_periods : int
-        The march that confirms that a continued orbit attracts the previous state ...
+        The march that confirms that a continued orbit attracts the previous state, in
+        periods (at least 8, the longest period sought: a whole orbit) ...
     verify_shrink : float
         ... and by how much the distance to that orbit must shrink meanwhile.
     verify_first : int
@@ -147,8 +151,10 @@ class SteadyOptions:
             set_("app_rtol", check_positive("app_rtol", self.app_rtol))
         if self.max_periods is not None:
             set_("max_periods", check_int("max_periods", self.max_periods))
-        for name in ("newton_iterations", "verify_periods", "verify_first"):
+        for name in ("newton_iterations", "verify_first"):
             set_(name, check_int(name, getattr(self, name), minimum=1))
+        set_("verify_periods", check_int("verify_periods", self.verify_periods,
+                                         minimum=LONGEST_PERIOD))
         if self.verify_first > self.verify_periods:
             raise ValueError(f"`verify_first` must be at most `verify_periods` "
                              f"({self.verify_periods}), got {self.verify_first}.")
@@ -199,9 +205,9 @@ class SteadyOptions:
 
 def steady_options(options: SteadyOptions | None, **accuracy) -> SteadyOptions:
     """The options of a call that takes ``options=`` and the accuracy fields as keywords:
-    ``options`` with no keyword moved from its default, or the keywords' own options.
-    A keyword given beside ``options`` is refused, naming it (which would win is not
-    clear)."""
+    ``options`` when no keyword is moved from its default, or the keywords' own options.
+    A keyword moved from its default beside ``options`` is refused, naming it (which
+    would win is not clear); one left at its default defers to ``options``."""
     if options is None:
         return SteadyOptions(**accuracy)
     if not isinstance(options, SteadyOptions):

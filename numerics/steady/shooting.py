@@ -25,14 +25,14 @@ from perturb.common import Status, lane_array, result
 
 from ..kernels.lanes import Lanes
 from ..simulation.rk4 import check_model, initial_lanes
-from .options import ACCURACY_FIELDS, MAX_STEPS, SteadyOptions, steady_options
+from .options import ACCURACY_FIELDS, LONGEST_PERIOD, MAX_STEPS, SteadyOptions, steady_options
 from .orbits import Orbits
 
 __all__ = ["SteadyStates", "steady_states", "DEFAULTS"]
 
 #: The accuracy fields' defaults, by name (``SteadyOptions``): the verbs' keyword defaults.
 DEFAULTS = {name: getattr(SteadyOptions, name) for name in ACCURACY_FIELDS if name != "method"}
-PERIODS_TRIED = (1, 2, 3, 4, 5, 6, 7, 8)
+PERIODS_TRIED = tuple(range(1, LONGEST_PERIOD + 1))  # 1 to 8
 CHUNK = 16  # periods marched between settling checks
 LONGEST_CHUNK = 4096  # ... and at most this many, far past the default cap
 #: The settling cap, in decay times 1/c of the linearised contact (Eq. 2.6): a linear
@@ -435,9 +435,9 @@ def steady_states(
 
 def steady_settings(options: SteadyOptions) -> dict:
     """A result's ``settings`` of these options: the accuracy fields, and the engine's
-    decisions that differ from the defaults (``"engine"``), if any."""
+    decisions that differ from the defaults (``"steady_options"``), if any."""
     changes = options.engine_changes()
-    return options.accuracy() | ({"engine": changes} if changes else {})
+    return options.accuracy() | ({"steady_options": changes} if changes else {})
 
 
 def check_period_guess(period_guess) -> np.ndarray:

@@ -92,10 +92,11 @@ def sweep_lanes_compiled(freq, p_a, model, start: Orbits | None = None, *,
     (tests/test_sweep_compiled.py). An error in one group stops the others after their
     block, and is raised. Each call sweeps a block of points lasting about
     ``block_seconds`` (the first block is one point, to measure the time per point)."""
-    if not supported(options, keep_orbits):
-        raise ValueError("the compiled sweep keeps no orbits and is built with the default "
-                         f"engine decisions (changed: {options.engine_changes()}); use the "
-                         "Python route")
+    if keep_orbits:
+        raise ValueError("the compiled sweep does not keep orbits; use the Python route")
+    if not supported(options):
+        raise ValueError("the compiled sweep is built with the default engine decisions "
+                         f"(changed: {options.engine_changes()}); use the Python route")
     steps_per_period, tol, app_rtol = options.steps_per_period, options.tol, options.app_rtol
     max_periods, method, refinements = options.max_periods, options.method, options.refinements
     # The driver's argument types are fixed (a new type would compile it once more).

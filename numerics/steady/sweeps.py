@@ -205,6 +205,7 @@ def sweep(
     options = steady_options(options, steps_per_period=steps_per_period, tol=tol,
                              app_rtol=app_rtol, max_periods=max_periods, method=method,
                              refinements=refinements)
+    max_checked_steps = check_int("max_checked_steps", max_checked_steps, minimum=0)
     check_tested(grid, fracs, model, unchecked=unchecked)
     directions = ("up", "down") if direction == "both" else (direction,)
     states = grid.size * fracs.size * len(directions)
@@ -226,11 +227,12 @@ def sweep(
                  **points.take(np.arange(i, points.status.size, len(lanes))).columns())
         for i, (frac, d) in enumerate(lanes)
     ]
-    _check_jumps(runs, model, options,
-                 check_int("max_checked_steps", max_checked_steps, minimum=0))
+    _check_jumps(runs, model, options, max_checked_steps)
     settings = {"frequency_hz": grid.tolist(), "pa_frac": fracs.tolist(), "direction": direction,
                 **steady_settings(options), "keep_orbits": keep_orbits,
-                **({"unchecked": True} if unchecked else {})}
+                **({"unchecked": True} if unchecked else {}),
+                **({"max_checked_steps": max_checked_steps}
+                   if max_checked_steps != MAX_CHECKED_STEPS else {})}
     return Sweep(model=model.as_dict(), settings=settings, runs=runs,
                  elapsed_s=time.perf_counter() - start)
 

@@ -37,6 +37,7 @@ from ._cli import (
     output_file,
     plot_file,
     positive_float,
+    program,
     run_command,
 )
 from ._files import replacing, write_atomically
@@ -45,6 +46,7 @@ from ._json import dumps, jsonable, write_json
 from ._lazy import lazy_names
 from ._processors import processors, tied_to_this_process
 from ._progress import note, progress
+from ._provenance import provenance
 from ._results import RESULT_CLASSES, Result, from_dict, load, result
 from ._status import Status
 
@@ -76,6 +78,8 @@ __all__ = [
     "output_dir",
     "output_file",
     "plot_file",
+    "program",
+    "provenance",
     "add_allow_slow",
     "add_unchecked",
     "add_version",

@@ -210,6 +210,14 @@ def describe(subcommands, examples: dict[str, str]) -> None:
         command.formatter_class = argparse.RawDescriptionHelpFormatter
 
 
+def program(package: str) -> str:
+    """The command's name as the user typed it: its console script
+    (``contact-numerics`` for ``numerics``, ``contact-paper-checks`` for
+    ``paper_checks``), or ``python -m PACKAGE``."""
+    script = "contact-" + package.replace("_", "-")
+    return script if Path(sys.argv[0]).name == script else f"python -m {package}"
+
+
 def add_version(parser: argparse.ArgumentParser) -> None:
     """``--version`` on a command line."""
     parser.add_argument("--version", action=_Version)

@@ -88,6 +88,12 @@ GLOSSARY: dict[str, tuple[str, str, str]] = {
     "alpha": ("what the backbone series' variable is: a / y0 (consistent) or h a / omega0^2 "
               "(Eq. 2.6's series)", "", "Eq. 2.7"),
     "elapsed_s": ("wall time of the computation", "s", ""),
+    "max_checked_steps": ("a sweep checks its jumps with the full model where it has at most "
+                          "this many steps between neighbours whose App changes by more than "
+                          "1.3x; past it none (`jumped` null), 0: no check", "1", ""),
+    "steady_options": ("the steady-state engine's decisions that differ from the defaults: "
+                       "fields of `numerics.SteadyOptions` beyond the accuracy ones (only "
+                       "when some differ)", "", ""),
     "provenance": ("where a result file comes from: the toolkit's `version` and `commit` (in a "
                    "git checkout; \"+changes\" when its files differ from it), the `python` "
                    "and `libraries` versions, and when it was `written_utc`", "", ""),

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._files import write_atomically
 from ._json import jsonable, write_json
 from ._provenance import provenance
 from ._status import Status
@@ -77,6 +78,31 @@ class Result:
         ``"provenance"``: versions, commit and when it was written."""
         write_json(path, _Written(self))  # as_dict() once: its lists are not walked again
 
+    def csv_rows(self) -> list[dict]:
+        """The result as rows of a table, one a lane (point), each a mapping from column
+        name to value: the per-lane columns (a column of pairs as two columns ``_0``,
+        ``_1``, a complex one as ``_real`` and ``_imag``), and the lane's own scalars
+        (``pa_frac``, ``direction``, ...). A result that holds tables (a sweep's runs,
+        a continuation's branches) stacks theirs, each row with the table's index.
+        Per-lane lists (every extremum of a period) are left out. A ValueError says
+        when the result is no table."""
+        if self.LANES is not None:
+            return _lane_rows(self)
+        for f in fields(self):
+            tables = getattr(self, f.name)
+            if (isinstance(tables, list) and tables
+                    and all(isinstance(t, Result) and t.LANES for t in tables)):
+                index = f.name.removesuffix("es") if f.name.endswith("ches") else \
+                    f.name.removesuffix("s")
+                return [{index: k, **row} for k, table in enumerate(tables)
+                        for row in table.csv_rows()]
+        raise ValueError(f"a {type(self).__name__} is not a table: it has no CSV form.")
+
+    def to_csv(self, path: str | Path) -> None:
+        """Write ``csv_rows()`` to ``path`` (UTF-8, a header of the glossary's names,
+        units in the names; empty cells where a value could not be computed)."""
+        write_atomically(path, _csv_text(self.csv_rows()))
+
     @classmethod
     def from_dict(cls, data: dict):
         """The object that ``as_dict`` described; derived keys are recomputed, not read."""
@@ -88,6 +114,52 @@ class Result:
                   if f.name in data}
         _check_values(cls, values)
         return cls(**values)
+
+
+def _lane_rows(table: Result) -> list[dict]:
+    """``Result.csv_rows`` of a table of lanes."""
+    n = len(getattr(table, table.LANES))
+    scalars, columns = {}, {}
+    values = {f.name: getattr(table, f.name) for f in fields(table)} | table.derived()
+    for key, value in values.items():
+        if isinstance(value, (str, bool, int, float, np.integer, np.floating)):
+            scalars[key] = value
+        elif (isinstance(value, list) and len(value) == n
+              and all(isinstance(v, str) for v in value)):
+            columns[key] = value
+        elif isinstance(value, np.ndarray) and value.ndim in (1, 2) and len(value) == n:
+            parts = [(key, value)] if value.ndim == 1 else [
+                (f"{key}_{k}", value[:, k]) for k in range(value.shape[1])]
+            for name, column in parts:
+                if np.iscomplexobj(column):
+                    columns[f"{name}_real"], columns[f"{name}_imag"] = column.real, column.imag
+                else:
+                    columns[name] = column
+    scalars.pop("elapsed_s", None)
+    return [{**scalars, **{name: column[i] for name, column in columns.items()}}
+            for i in range(n)]
+
+
+def _csv_text(rows: list[dict]) -> str:
+    import csv
+    import io
+
+    names = list(dict.fromkeys(name for row in rows for name in row))
+    text = io.StringIO()
+    writer = csv.writer(text, lineterminator="\n")
+    writer.writerow(names)
+    for row in rows:
+        writer.writerow([_cell(row.get(name, "")) for name in names])
+    return text.getvalue()
+
+
+def _cell(value):
+    value = jsonable(value)
+    if value is None:
+        return ""
+    if isinstance(value, float):
+        return repr(value)  # the shortest text that reads back the same float
+    return value
 
 
 class _Written:

@@ -22,7 +22,6 @@ import time
 import numpy as np
 
 from numerics import atlas, attractor_census
-from numerics.steady import multistability
 from perturb.common import processors
 
 from ._timing import header, median_time, row
@@ -72,18 +71,14 @@ def main() -> None:
 
 def _cells_per_task() -> None:
     """Time per cell against the size of a task (in this process: the batching alone)."""
-    grid, default = (20, 5), multistability.TASK_LANES
-    times = {}
-    try:
-        for lanes in (98, 490, 2048, 8192):
-            multistability.TASK_LANES = lanes
-            times[lanes] = median_time(lambda: run(grid=grid, workers=1), REPEATS)
-    finally:
-        multistability.TASK_LANES = default
+    grid, times = (20, 5), {}
+    for lanes in (98, 490, 2048, 8192):
+        times[lanes] = median_time(
+            lambda lanes=lanes: run(grid=grid, workers=1, task_lanes=lanes), REPEATS)
     header(f"Time per cell against lanes per task ({grid[0]} x {grid[1]} cells, in this "
            f"process; baseline: 1 cell per task)")
     for lanes, spent in times.items():
-        row(f"TASK_LANES = {lanes} ({-(-lanes // 98)} cells) [ms per cell]",
+        row(f"task_lanes = {lanes} ({-(-lanes // 98)} cells) [ms per cell]",
             spent / (grid[0] * grid[1]) * 1e3, times[98] / (grid[0] * grid[1]) * 1e3, "ms",
             higher_is_better=False)
 

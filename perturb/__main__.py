@@ -33,6 +33,7 @@ import numpy as np
 
 from perturb.common import (
     add_allow_slow,
+    add_csv,
     add_version,
     describe,
     int_at_least,
@@ -45,6 +46,7 @@ from perturb.common import (
     run_command,
     write_atomically,
     write_json,
+    write_table,
 )
 
 from .model.parameters import PAPER_BAND_HZ
@@ -124,6 +126,7 @@ def _response(args: argparse.Namespace) -> None:
     if args.json:
         response.to_json(args.json)
         note(f"wrote {args.json}", quiet=args.quiet)
+    write_table(response, args)
     print(response)
 
 
@@ -184,6 +187,7 @@ def build_parser() -> argparse.ArgumentParser:
                               help="frequencies from --fmin to --fmax (default: %(default)s)")
     response_cmd.add_argument("--json", metavar="FILE", type=output_file,
                               help="also write the response as JSON (-: to stdout)")
+    add_csv(response_cmd)
     add_model_option(response_cmd)
     response_cmd.set_defaults(run=_response)
     for sub in (derive_cmd, backbone_cmd):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from perturb.common import int_at_least, note, output_file, positive_float
+from perturb.common import add_csv, int_at_least, note, output_file, positive_float, write_table
 from perturb.model.set_option import add_model_option, model_parameters
 
 __all__ = ["add_backbone_parser"]
@@ -33,6 +33,7 @@ def add_backbone_parser(sub) -> None:
     parser.add_argument("--json", metavar="FILE", type=output_file,
                         help="also write the curve as JSON (-: to stdout; numerics.load reads "
                         "a file back)")
+    add_csv(parser)
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     add_model_option(parser)
     parser.set_defaults(run=_backbone, parser=parser)
@@ -64,5 +65,6 @@ def _backbone(args: argparse.Namespace) -> int:
     backbone = exact_backbone(app_range_m=app_range, points=args.points,
                               model=ContactModel(parameters))
     backbone.to_json(args.json)  # before printing: a closed pipe loses nothing
+    write_table(backbone, args)
     print(backbone)
     return 0

@@ -11,7 +11,15 @@ import argparse
 from pathlib import Path
 
 from perturb import EQ_2_6, FULL, PAPER_BAND_HZ, ContactModel
-from perturb.common import int_at_least, nonnegative_float, output_file, plot_file, positive_float
+from perturb.common import (
+    add_csv,
+    int_at_least,
+    nonnegative_float,
+    output_file,
+    plot_file,
+    positive_float,
+    write_table,
+)
 from perturb.model.set_option import add_model_option, model_parameters
 from perturb.series.truncation import TRUNCATIONS
 
@@ -55,6 +63,7 @@ def add_continue_parser(sub) -> None:
     parser.add_argument("--json", metavar="FILE", type=output_file,
                         help="also write the result as JSON "
                         "(-: to stdout, other lines to stderr)")
+    add_csv(parser)
     parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="App against the parameter walked (f_e or P_a / Q): stable solid, "
                         "unstable dashed, bifurcations marked")
@@ -109,6 +118,7 @@ def _continue(args: argparse.Namespace) -> int:
         result.to_json(args.json)
         if stability is not None:
             stability.to_json(Path(args.json).with_name(Path(args.json).stem + "-series.json"))
+    write_table(result, args)
     print(result)
     if stability is not None:
         print(stability)

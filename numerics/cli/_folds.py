@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from perturb import FULL, ContactModel
-from perturb.common import output_file, plot_file, positive_float
+from perturb.common import add_csv, output_file, plot_file, positive_float
 from perturb.model.set_option import add_model_option, model_parameters
 
 from ._steady import add_band_options, check_band, report, walk_steps_option
@@ -28,6 +28,7 @@ def add_folds_parser(sub) -> None:
     parser.add_argument("--json", metavar="FILE", type=output_file,
                         help="also write the result as JSON "
                         "(-: to stdout, other lines to stderr)")
+    add_csv(parser)
     parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="the fold curves in the (f_e, P_a / Q) plane, cusps marked")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")

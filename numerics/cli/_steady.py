@@ -8,6 +8,7 @@ import numpy as np
 
 from perturb import PAPER_BAND_HZ, PAPER_PANEL_FRACTIONS, ContactModel
 from perturb.common import (
+    add_csv,
     add_unchecked,
     int_at_least,
     nonnegative_float,
@@ -15,6 +16,7 @@ from perturb.common import (
     output_file,
     plot_file,
     positive_float,
+    write_table,
 )
 from perturb.model.set_option import add_model_option, model_parameters
 
@@ -74,6 +76,7 @@ def add_sweep_parser(sub) -> None:
     parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="Fig. 2 there, and Fig. 3 beside it (FILE-extrema.png)")
     accuracy_options(parser)
+    add_csv(parser)
     parser.set_defaults(run=_sweep, parser=parser)
 
 
@@ -97,6 +100,7 @@ def report(result, args: argparse.Namespace, plot: str) -> None:
     ``numerics.plots.<plot>`` if asked."""
     if args.json:
         result.to_json(args.json)
+    write_table(result, args)
     print(result)
     if args.plot:
         from .. import plots
@@ -123,6 +127,7 @@ def _sweep(args: argparse.Namespace) -> int:
                    tol=args.tol, quiet=args.quiet, unchecked=args.unchecked)
     if args.json:
         result.to_json(args.json)
+    write_table(result, args)
     print(result)
     if args.plot:
         from ..plots import plot_app, plot_extrema
@@ -143,6 +148,7 @@ def add_attractors_parser(sub) -> None:
     parser.add_argument("--pa-frac", type=nonnegative_float, required=True, help="P_a / Q")
     parser.add_argument("--fe", type=positive_float, required=True, help="f_e [Hz]")
     accuracy_options(parser)
+    add_csv(parser)
     parser.set_defaults(run=_attractors, parser=parser)
 
 
@@ -153,5 +159,6 @@ def _attractors(args: argparse.Namespace) -> int:
                         tol=args.tol, unchecked=args.unchecked)
     if args.json:
         census.to_json(args.json)
+    write_table(census, args)
     print(census)
     return 0

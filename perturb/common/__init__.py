@@ -27,6 +27,7 @@ from ._checks import (
 from ._cli import (
     PLOT_FORMATS,
     add_allow_slow,
+    add_csv,
     add_unchecked,
     add_version,
     describe,
@@ -39,6 +40,7 @@ from ._cli import (
     positive_float,
     program,
     run_command,
+    write_table,
 )
 from ._files import replacing, write_atomically
 from ._glossary import GLOSSARY, glossary_table
@@ -81,6 +83,7 @@ __all__ = [
     "program",
     "provenance",
     "add_allow_slow",
+    "add_csv",
     "add_unchecked",
     "add_version",
     "PLOT_FORMATS",
@@ -93,4 +96,5 @@ __all__ = [
     "replacing",
     "write_atomically",
     "write_json",
+    "write_table",
 ]

@@ -218,6 +218,26 @@ def program(package: str) -> str:
     return script if Path(sys.argv[0]).name == script else f"python -m {package}"
 
 
+def csv_file(text: str) -> str:
+    """A CSV file to write (as ``output_file``, but a file: no "-")."""
+    if text == "-":
+        raise argparse.ArgumentTypeError("CSV goes to a file (--json - writes to stdout)")
+    return output_file(text)
+
+
+def add_csv(parser: argparse.ArgumentParser) -> None:
+    """``--csv FILE``: the result's table (``Result.to_csv``), units in the column names."""
+    parser.add_argument("--csv", metavar="FILE", type=csv_file,
+                        help="also write the result's table as CSV, a row a point, units in "
+                             "the column names (default: none)")
+
+
+def write_table(result, args: argparse.Namespace) -> None:
+    """The result's CSV, where ``--csv`` asks for it."""
+    if getattr(args, "csv", None):
+        result.to_csv(args.csv)
+
+
 def add_version(parser: argparse.ArgumentParser) -> None:
     """``--version`` on a command line."""
     parser.add_argument("--version", action=_Version)

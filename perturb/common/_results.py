@@ -89,13 +89,16 @@ class Result:
         if self.LANES is not None:
             return _lane_rows(self)
         for f in fields(self):
-            tables = getattr(self, f.name)
-            if (isinstance(tables, list) and tables
-                    and all(isinstance(t, Result) and t.LANES for t in tables)):
+            parts = getattr(self, f.name)
+            if not (isinstance(parts, list) and parts
+                    and all(isinstance(part, Result) for part in parts)):
+                continue
+            if all(part.LANES for part in parts):
                 index = f.name.removesuffix("es") if f.name.endswith("ches") else \
                     f.name.removesuffix("s")
-                return [{index: k, **row} for k, table in enumerate(tables)
+                return [{index: k, **row} for k, table in enumerate(parts)
                         for row in table.csv_rows()]
+            return [_scalars(part) for part in parts]  # a row each (a census's attractors)
         raise ValueError(f"a {type(self).__name__} is not a table: it has no CSV form.")
 
     def to_csv(self, path: str | Path) -> None:
@@ -114,6 +117,29 @@ class Result:
                   if f.name in data}
         _check_values(cls, values)
         return cls(**values)
+
+
+def _scalars(part: Result) -> dict:
+    """The numbers and words of a result that is one row (an attractor): its scalar
+    fields and derived values, and its short arrays as numbered columns."""
+    values = {f.name: getattr(part, f.name) for f in fields(part)} | part.derived()
+    row = {}
+    for key, value in values.items():
+        if isinstance(value, (str, bool, int, float, complex, np.integer, np.floating)):
+            row[key] = value
+        elif isinstance(value, np.ndarray) and value.ndim == 1 and value.size <= 8:
+            row |= {f"{key}_{k}": item for k, item in enumerate(value)}
+    return _split_complex(row)
+
+
+def _split_complex(row: dict) -> dict:
+    out = {}
+    for key, value in row.items():
+        if isinstance(value, (complex, np.complexfloating)):
+            out[f"{key}_real"], out[f"{key}_imag"] = value.real, value.imag
+        else:
+            out[key] = value
+    return out
 
 
 def _lane_rows(table: Result) -> list[dict]:

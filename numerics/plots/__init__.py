@@ -2,7 +2,9 @@
 
 Each function takes a result (``Backbone``, ``HeightSweep``, ``HysteresisLoop``,
 ``Comparison``, ...), draws on a new matplotlib ``Figure`` (no pyplot, no global
-state; PNG through Agg) and, given ``path``, saves it there.
+state; PNG through Agg) and, given ``path``, saves it there. Every ``plot_`` function
+also takes ``ax=``: it then draws on the caller's axes (one, or one per panel: per
+force amplitude, increasing) and leaves the figure's layout to the caller.
 
 The figures and animations of scenes take plain numpy arrays (SI units) instead:
 ``plot_spectrum``, ``plot_phase_portrait``, ``plot_time_history`` and

@@ -8,7 +8,7 @@ from matplotlib.patches import Patch
 
 from perturb.common import Status
 
-from .figure import finish, new_figure
+from .figure import finish, on_axes
 
 __all__ = ["plot_atlas"]
 
@@ -16,11 +16,11 @@ __all__ = ["plot_atlas"]
 FAILED_COLOUR = "0.55"
 
 
-def plot_atlas(atlas, path=None, *, folds=None):
+def plot_atlas(atlas, path=None, *, folds=None, ax=None):
     """The number of coexisting attractors at each cell, one colour per count, over f_e
     and P_a / Q; cells whose task failed in grey. ``atlas``: a ``numerics.Atlas``;
     ``folds``: a ``numerics.FoldCurves`` drawn over the map."""
-    figure, ax = new_figure((7.0, 4.4))
+    figure, ax = on_axes(ax, (7.0, 4.4))
     counts = np.asarray(atlas.attractor_count)
     failed = np.asarray(atlas.status) == Status.FAILED
     most = max(int(counts.max(initial=0)), 1)

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from matplotlib.figure import Figure
 
-from .figure import finish, fixed_layout, new_figure
+from .figure import finish, fixed_layout, on_axes
 
 if TYPE_CHECKING:  # the exact backbone imports scipy.optimize: not for every figure
     from ..backbone.exact import Backbone
@@ -20,7 +20,7 @@ __all__ = ["plot_backbone", "plot_backbone_truncations"]
 _MARGINS_IN = {"right": 0.134, "top": 0.252, "bottom": 0.501}
 
 
-def plot_backbone(backbone: Backbone, path: str | Path | None = None) -> Figure:
+def plot_backbone(backbone: Backbone, path: str | Path | None = None, *, ax=None) -> Figure:
     """Frequency of free oscillation against amplitude, A_pp and a1, log scale.
 
     Examples
@@ -30,7 +30,8 @@ def plot_backbone(backbone: Backbone, path: str | Path | None = None) -> Figure:
     >>> figure.axes[0].get_xlabel()
     'amplitude [nm]'
     """
-    figure, ax = new_figure(layout=None)
+    own = ax is None
+    figure, ax = on_axes(ax, layout=None)
     ax.semilogx(backbone.app_m * 1e9, backbone.frequency_hz, label="peak-to-peak $A_{pp}$")
     ax.semilogx(backbone.a1_m * 1e9, backbone.frequency_hz, "--", label="fundamental $a_1$")
     ax.axhline(backbone.f_n0_hz, color="0.6", lw=0.8)
@@ -40,11 +41,12 @@ def plot_backbone(backbone: Backbone, path: str | Path | None = None) -> Figure:
     ax.set_ylabel("frequency of free oscillation [Hz]")
     ax.set_title("Exact backbone of the conservative model")
     ax.legend(loc="lower left")
-    fixed_layout(figure, [[ax]], **_MARGINS_IN)
+    if own:  # a caller's figure is laid out by the caller
+        fixed_layout(figure, [[ax]], **_MARGINS_IN)
     return finish(figure, path)
 
 
-def plot_backbone_truncations(rows, path: str | Path | None = None) -> Figure:
+def plot_backbone_truncations(rows, path: str | Path | None = None, *, ax=None) -> Figure:
     """The exact backbone of each contact beside its consistent and Eq. 2.6 series.
 
     ``rows`` holds ``(backbone, consistent, paper)`` per contact: the exact ``Backbone``
@@ -64,7 +66,8 @@ def plot_backbone_truncations(rows, path: str | Path | None = None) -> Figure:
     >>> figure.axes[0].get_ylabel()
     '$f - f_{n0}$ [Hz]'
     """
-    figure, ax = new_figure(layout=None)
+    own = ax is None
+    figure, ax = on_axes(ax, layout=None)
     for i, (exact, consistent, paper) in enumerate(rows):
         color = f"C{i}"
         m2 = exact.model["parameters"]["m2"]
@@ -80,5 +83,6 @@ def plot_backbone_truncations(rows, path: str | Path | None = None) -> Figure:
     ax.set_ylabel("$f - f_{n0}$ [Hz]")
     ax.set_title("Backbones: exact, consistent series, Eq. 2.6's series")
     ax.legend(loc="lower left", fontsize="x-small")
-    fixed_layout(figure, [[ax]], **_MARGINS_IN)
+    if own:  # a caller's figure is laid out by the caller
+        fixed_layout(figure, [[ax]], **_MARGINS_IN)
     return finish(figure, path)

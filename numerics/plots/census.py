@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .figure import finish, new_figure
+from .figure import finish, on_axes
 
 __all__ = ["plot_census"]
 
 
-def plot_census(census, path=None):
+def plot_census(census, path=None, *, ax=None):
     """y(t) over one orbit of every attractor found, against the phase of the drive."""
-    figure, ax = new_figure((6.4, 4.2))
+    figure, ax = on_axes(ax, (6.4, 4.2))
     for attractor in census.attractors:
         y = attractor.orbit_y_m
         phase = np.arange(1, y.size + 1) / (y.size / attractor.period)

@@ -11,7 +11,7 @@ from perturb import ContactModel
 
 from ..backbone.exact import Backbone, exact_backbone
 from ..comparison.study import Comparison
-from .figure import finish, fixed_layout, panel_title
+from .figure import finish, fixed_layout, on_panels, panel_title
 
 __all__ = ["plot_comparison"]
 
@@ -105,7 +105,7 @@ def _responses(ax, comparison: Comparison, pa_frac: float, backbone: Backbone | 
 
 
 def plot_comparison(comparison: Comparison, path: str | Path | None = None, *,
-                    backbone: Backbone | None = None) -> Figure:
+                    backbone: Backbone | None = None, ax=None) -> Figure:
     """Backbone errors by order, and A_pp against f_e per P_a: RK4 of both models, series.
 
     Each response panel also draws the exact backbone (free oscillation) over
@@ -121,6 +121,9 @@ def plot_comparison(comparison: Comparison, path: str | Path | None = None, *,
         The exact backbone to draw; it must cover the A_pp range of the curves
         shown. By default it is computed for that range
         (``exact_backbone(app_range_m=...)``, 300 levels, about 0.1 s).
+    ax : sequence of axes, optional
+        The caller's axes to draw on, laid out by the caller: the backbone errors'
+        panel, then one per P_a.
 
     Examples
     --------
@@ -132,13 +135,18 @@ def plot_comparison(comparison: Comparison, path: str | Path | None = None, *,
     """
     panels = 1 + len(comparison.pa_frac)
     backbone = _covering_backbone(comparison, backbone)
-    figure = Figure(figsize=(6.0 * min(panels, 2), 4.2 * ((panels + 1) // 2)))
-    grid = figure.subplots((panels + 1) // 2, min(panels, 2), squeeze=False)
+    given = on_panels(ax, panels, "panel (the backbone errors, then each P_a)")
+    if given is not None:
+        figure, grid = given
+    else:
+        figure = Figure(figsize=(6.0 * min(panels, 2), 4.2 * ((panels + 1) // 2)))
+        grid = figure.subplots((panels + 1) // 2, min(panels, 2), squeeze=False)
     axes = grid.ravel()
     _backbone_errors(axes[0], comparison)
     for ax, pa_frac in zip(axes[1:], comparison.pa_frac):
         _responses(ax, comparison, pa_frac, backbone)
-    for ax in axes[panels:]:
-        ax.set_visible(False)
-    fixed_layout(figure, grid, **_MARGINS_IN)
+    for extra in axes[panels:]:
+        extra.set_visible(False)
+    if given is None:
+        fixed_layout(figure, grid, **_MARGINS_IN)
     return finish(figure, path)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from .figure import finish, new_figure
+from .figure import finish, on_axes, on_panels
 
 __all__ = ["plot_continuation", "plot_continued_app", "plot_force_continuation"]
 
@@ -14,10 +14,10 @@ _MARKS = {"fold": {"marker": "o", "color": "tab:red", "label": "fold"},
           "period-doubling": {"marker": "s", "color": "tab:blue", "label": "period doubling"}}
 
 
-def plot_continuation(continuation, path=None, *, sweep=None) -> Figure:
+def plot_continuation(continuation, path=None, *, sweep=None, ax=None) -> Figure:
     """App (log axis) against f_e: stable parts solid, unstable parts dashed, folds and
     period doublings marked; with ``sweep`` (a ``Sweep`` at the same P_a), its points too."""
-    figure, ax = new_figure((7.0, 4.2))
+    figure, ax = on_axes(ax, (7.0, 4.2))
     _draw_branches(ax, continuation)
     _mark_bifurcations(ax, continuation.bifurcations)
     if sweep is not None:
@@ -29,11 +29,11 @@ def plot_continuation(continuation, path=None, *, sweep=None) -> Figure:
     return _finish_one(figure, ax, path)
 
 
-def plot_force_continuation(continuation, path=None) -> Figure:
+def plot_force_continuation(continuation, path=None, *, ax=None) -> Figure:
     """App (log axis) against P_a / Q at one f_e, from a ``ForceContinuation``
     (``numerics.continue_in_force``): stable parts solid, unstable parts dashed, folds
     and period doublings marked."""
-    figure, ax = new_figure((7.0, 4.2))
+    figure, ax = on_axes(ax, (7.0, 4.2))
     _draw_branches(ax, continuation, along="pa_frac")
     _mark_bifurcations(ax, continuation.bifurcations, along="pa_frac")
     ax.set_xlabel("P_a / Q")
@@ -81,19 +81,25 @@ def _finish_one(figure: Figure, ax, path) -> Figure:
     return finish(figure, path)
 
 
-def plot_continued_app(continuations, path=None, *, sweep=None) -> Figure:
+def plot_continued_app(continuations, path=None, *, sweep=None, ax=None) -> Figure:
     """Fig. 2 redrawn from continued branches: one panel per force amplitude (one
     ``Continuation`` each), App (log axis) against f_e, stable parts solid and unstable
-    dashed; with ``sweep`` (a ``Sweep`` at the same amplitudes), its points beside."""
+    dashed; with ``sweep`` (a ``Sweep`` at the same amplitudes), its points beside;
+    ``ax``: the caller's axes, one per amplitude (increasing), to draw on."""
     from .sweep import f_n0_hz, fraction_title, resonance_marks
 
     runs = sorted(continuations, key=lambda c: c.pa_frac)
-    cols = min(len(runs), 2)
-    rows = -(-len(runs) // cols)
-    figure = Figure(figsize=(6.0 * cols, 2.6 * rows), layout="constrained")
-    axes = figure.subplots(rows, cols, squeeze=False, sharex=True).ravel()
-    figure.suptitle("Contact resonances, continued: A_pp against f_e (Fig. 2; stable solid, "
-                    "unstable dashed)")
+    given = on_panels(ax, len(runs), "force amplitude")
+    if given is not None:
+        figure, axes = given[0], given[1].ravel()
+        cols = len(runs)  # x labels on every panel: the caller's layout is unknown
+    else:
+        cols = min(len(runs), 2)
+        rows = -(-len(runs) // cols)
+        figure = Figure(figsize=(6.0 * cols, 2.6 * rows), layout="constrained")
+        axes = figure.subplots(rows, cols, squeeze=False, sharex=True).ravel()
+        figure.suptitle("Contact resonances, continued: A_pp against f_e (Fig. 2; stable "
+                        "solid, unstable dashed)")
     for ax in axes[len(runs):]:
         ax.set_visible(False)
     for i, (ax, run) in enumerate(zip(axes, runs)):

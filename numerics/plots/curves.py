@@ -7,13 +7,13 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from .figure import finish, new_figure
+from .figure import finish, on_axes
 
 __all__ = ["plot_curves"]
 
 
-def plot_curves(curves: list[dict], path: str | Path | None = None, *, title: str = ""
-                ) -> Figure:
+def plot_curves(curves: list[dict], path: str | Path | None = None, *, title: str = "",
+                ax=None) -> Figure:
     """One line of App [nm] against f_e [Hz] per curve (dicts with ``frequency_hz``,
     ``app_m`` and ``label``); points marked invalid (``valid`` False) are drawn faint.
 
@@ -23,7 +23,7 @@ def plot_curves(curves: list[dict], path: str | Path | None = None, *, title: st
     >>> plot_curves([curve]).axes[0].get_ylabel()
     '$A_{pp}$ [nm]'
     """
-    figure, ax = new_figure()
+    figure, ax = on_axes(ax)
     for curve in curves:
         f, app = np.asarray(curve["frequency_hz"]), np.asarray(curve["app_m"]) * 1e9
         valid = np.asarray(curve.get("valid", np.ones(f.shape, dtype=bool)), dtype=bool)

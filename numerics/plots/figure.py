@@ -36,6 +36,24 @@ def new_figure(size=(6.0, 4.2), layout: str | None = "constrained") -> tuple[Fig
     return figure, figure.add_subplot()
 
 
+def on_axes(ax, size=(6.0, 4.2), layout: str | None = "constrained") -> tuple[Figure, object]:
+    """The figure and axes a plot function draws on: ``ax`` (a panel of the caller's own
+    figure, laid out by the caller) and its figure, or a new figure with one axes."""
+    return (ax.figure, ax) if ax is not None else new_figure(size, layout)
+
+
+def on_panels(ax, count: int, what: str):
+    """The caller's axes for a figure of ``count`` panels (``ax``: a sequence of at
+    least that many axes of one figure, one per ``what``, in order), as (figure, the
+    axes as a grid of one row), or None when ``ax`` is None (the plot makes its own)."""
+    if ax is None:
+        return None
+    axes = np.asarray(ax, dtype=object).ravel()
+    if axes.size < count:
+        raise ValueError(f"`ax` must hold one axes per {what} ({count}), got {axes.size}.")
+    return axes[0].figure, axes[:count].reshape(1, count)
+
+
 def panel_title(ax, text: str, **kwargs) -> None:
     """Title ``ax`` just above its top edge, where matplotlib would put it anyway.
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from .figure import finish, new_figure
+from .figure import finish, on_axes
 
 __all__ = ["plot_folds"]
 
@@ -17,7 +17,7 @@ def plot_folds(folds, path=None, *, ax=None) -> Figure:
     """The fold curves in the (f_e, P_a / Q) plane, one colour per resonance, each
     resonance's bistable region (inside its curve, above its cusp) labelled at its
     lowest cusp, cusps marked; with ``ax``, drawn on it (over an atlas, say)."""
-    figure, ax = new_figure((7.0, 4.2)) if ax is None else (ax.figure, ax)
+    figure, ax = on_axes(ax, (7.0, 4.2))
     from ..continuation.folds import resonance_name
 
     labelled = set()

@@ -8,12 +8,13 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..contact.hysteresis import HysteresisLoop
-from .figure import finish, new_figure
+from .figure import finish, on_axes
 
 __all__ = ["plot_hysteresis"]
 
 
-def plot_hysteresis(loop: HysteresisLoop, path: str | Path | None = None) -> Figure:
+def plot_hysteresis(loop: HysteresisLoop, path: str | Path | None = None, *,
+                    ax=None) -> Figure:
     """y against p = -R/S over one steady period, closed, as in Fig. 5.
 
     Examples
@@ -23,7 +24,7 @@ def plot_hysteresis(loop: HysteresisLoop, path: str | Path | None = None) -> Fig
     >>> figure.axes[0].get_xlabel()
     'normal contact pressure $p$ [kPa]'
     """
-    figure, ax = new_figure()
+    figure, ax = on_axes(ax)
     pressure = np.r_[loop.pressure_pa, loop.pressure_pa[:1]] / 1e3  # closed: back to the start
     ax.plot(pressure, np.r_[loop.y_m, loop.y_m[:1]] * 1e9)
     if loop.y_m.min() < 0:

@@ -7,12 +7,13 @@ from pathlib import Path
 from matplotlib.figure import Figure
 
 from ..contact.natural_frequency import HeightSweep
-from .figure import finish, new_figure
+from .figure import finish, on_axes
 
 __all__ = ["plot_natural_frequency"]
 
 
-def plot_natural_frequency(sweep: HeightSweep, path: str | Path | None = None) -> Figure:
+def plot_natural_frequency(sweep: HeightSweep, path: str | Path | None = None, *,
+                           ax=None) -> Figure:
     """The model's f_n0(h_b), with the paper's 30 mm cube at its reported f_n0.
 
     Examples
@@ -22,7 +23,7 @@ def plot_natural_frequency(sweep: HeightSweep, path: str | Path | None = None) -
     >>> figure.axes[0].get_ylabel()
     'natural frequency $f_n$ [Hz]'
     """
-    figure, ax = new_figure()
+    figure, ax = on_axes(ax)
     ax.plot(sweep.height_m * 1e3, sweep.f_n0_hz, label="adopted model, rigid steel body")
     ax.plot(sweep.paper_height_m * 1e3, sweep.paper_f_n0_hz, "o", color="C3",
             label=f"paper: {sweep.paper_height_m * 1e3:g} mm cube, {sweep.paper_f_n0_hz:g} Hz")

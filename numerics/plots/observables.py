@@ -17,7 +17,7 @@ from matplotlib.ticker import MaxNLocator
 
 from perturb.common import check_positive, finite_array
 
-from .figure import finish, new_figure
+from .figure import finish, on_axes
 
 __all__ = [
     "plot_contact_fraction",
@@ -115,7 +115,7 @@ def static_deflection(y0_m) -> float | None:
 
 def plot_spectrum(harmonic_amplitude_m, path: str | Path | None = None, *,
                   frequency_hz=None, log: bool | None = None, title: str = "",
-                  periods: int = 1) -> Figure:
+                  periods: int = 1, ax=None) -> Figure:
     """Amplitudes of the harmonics k = 0, 1, 2, ... of one period of y, in nm.
 
     A spectrum of ``periods`` = p excitation periods (an orbit of period p, or a
@@ -145,13 +145,13 @@ def plot_spectrum(harmonic_amplitude_m, path: str | Path | None = None, *,
     """
     amplitude = finite_2d("harmonic_amplitude_m", harmonic_amplitude_m, missing=True)
     if amplitude.ndim == 2:
-        return _spectrum_against_frequency(amplitude, frequency_hz, path, log, title)
+        return _spectrum_against_frequency(amplitude, frequency_hz, path, log, title, ax)
     finite_2d("harmonic_amplitude_m", amplitude)  # one spectrum: no value missing
     if frequency_hz is not None:
         raise ValueError("`frequency_hz` goes with a 2-D `harmonic_amplitude_m` (points, "
                          "harmonics); this one is 1-D, one spectrum.")
     _check_amplitudes(amplitude[1:], first_k=1)
-    figure, ax = new_figure()
+    figure, ax = on_axes(ax)
     nm = amplitude * 1e9
     log = is_wide(np.abs(nm[np.abs(nm) > 0]), LOG_DECADES) if log is None else bool(log)
     heights = np.abs(nm) if log else nm
@@ -185,7 +185,8 @@ def _check_amplitudes(amplitude: np.ndarray, first_k: int) -> None:
                          f"(amplitudes), got {float(amplitude[tuple(negative[0])])!r} at k = {k}.")
 
 
-def _spectrum_against_frequency(amplitude: np.ndarray, frequency_hz, path, log, title) -> Figure:
+def _spectrum_against_frequency(amplitude: np.ndarray, frequency_hz, path, log, title,
+                                ax) -> Figure:
     if frequency_hz is None:
         raise ValueError("`frequency_hz` is needed with a 2-D `harmonic_amplitude_m` (points, "
                          "harmonics): the f_e of each point.")
@@ -197,7 +198,7 @@ def _spectrum_against_frequency(amplitude: np.ndarray, frequency_hz, path, log, 
         raise ValueError("`harmonic_amplitude_m` must hold at least k = 0 and k = 1 (2 "
                          f"columns), got shape {amplitude.shape}.")
     _check_amplitudes(amplitude[:, 1:], first_k=1)
-    figure, ax = new_figure()
+    figure, ax = on_axes(ax)
     log = True if log is None else bool(log)
     for k in range(1, min(amplitude.shape[1], MAX_HARMONICS + 1)):
         nm = amplitude[:, k] * 1e9
@@ -218,7 +219,7 @@ def _spectrum_against_frequency(amplitude: np.ndarray, frequency_hz, path, log, 
 
 
 def plot_phase_portrait(y_m, v_m_s, path: str | Path | None = None, *, y0_m=None,
-                        labels=None, title: str = "") -> Figure:
+                        labels=None, title: str = "", ax=None) -> Figure:
     """Velocity (mm/s) against displacement (nm) over one or several orbits.
 
     ``y_m``, ``v_m_s``: 1-D arrays, or lists of 1-D arrays (one per orbit, labelled
@@ -238,7 +239,7 @@ def plot_phase_portrait(y_m, v_m_s, path: str | Path | None = None, *, y0_m=None
     same_lengths(("y_m", "v_m_s"), ys, vs)
     names = curve_labels(labels, len(ys), "orbit {}")
     y0 = static_deflection(y0_m)
-    figure, ax = new_figure()
+    figure, ax = on_axes(ax)
     for y, v, name in zip(ys, vs, names):
         ax.plot(y * 1e9, v * 1e3, lw=1, **({"label": name} if name else {}))
     if min(y.min() for y in ys) <= 0:
@@ -282,7 +283,7 @@ def _crossing(t: np.ndarray, y: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.
 
 
 def plot_time_history(time_s, y_m, path: str | Path | None = None, *, y0_m=None,
-                      title: str = "") -> Figure:
+                      title: str = "", ax=None) -> Figure:
     """y(t) in nm against t in ms; the intervals out of contact (y <= 0) shaded.
 
     Examples
@@ -299,7 +300,7 @@ def plot_time_history(time_s, y_m, path: str | Path | None = None, *, y0_m=None,
     same_lengths(("time_s", "y_m"), [t], [y])
     increasing("time_s", t)
     y0 = static_deflection(y0_m)
-    figure, ax = new_figure((7.0, 3.6))
+    figure, ax = on_axes(ax, (7.0, 3.6))
     ax.plot(t * 1e3, y * 1e9, lw=1, color="tab:blue", label="$y(t)$")
     intervals = out_of_contact(t, y) * 1e3
     if intervals.size:
@@ -321,7 +322,7 @@ def plot_time_history(time_s, y_m, path: str | Path | None = None, *, y0_m=None,
 
 
 def plot_contact_fraction(frequency_hz, fraction, path: str | Path | None = None, *,
-                          labels=None, title: str = "") -> Figure:
+                          labels=None, title: str = "", ax=None) -> Figure:
     """Share of each excitation period spent out of contact (y <= 0), in %, against f_e.
 
     ``fraction`` is 1-D (points,) or 2-D (curves, points), in [0, 1] (NaN: no value,
@@ -345,7 +346,7 @@ def plot_contact_fraction(frequency_hz, fraction, path: str | Path | None = None
         raise ValueError(f"`fraction` must lie in [0, 1] (a share of the period), got "
                          f"{float(bad)!r}.")
     names = curve_labels(labels, share.shape[0])
-    figure, ax = new_figure()
+    figure, ax = on_axes(ax)
     for values, name in zip(share, names):
         ax.plot(f, values * 100, marker=".", ms=3, lw=1, **({"label": name} if name else {}))
     ax.set_ylim(-2, 102)

@@ -5,14 +5,14 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from .figure import finish, new_figure
+from .figure import finish, on_axes
 
 __all__ = ["plot_series_stability"]
 
 _LINES = {True: "-", False: "--"}
 
 
-def plot_series_stability(stability, continuation=None, path=None) -> Figure:
+def plot_series_stability(stability, continuation=None, path=None, *, ax=None) -> Figure:
     """App (log axis) against f_e of each branch of a ``SeriesStability``, stable parts
     solid, unstable dashed, unknown dotted and grey; with ``continuation`` (a
     ``Continuation`` of Eq. 2.6 at the same P_a), its branches beneath, thick and pale,
@@ -21,7 +21,7 @@ def plot_series_stability(stability, continuation=None, path=None) -> Figure:
     Branch j of the series is the root with the (j+1)-th largest omega: where the count
     of roots changes (at a fold) it passes to another orbit, and its line is broken there.
     """
-    figure, ax = new_figure((7.0, 4.2))
+    figure, ax = on_axes(ax, (7.0, 4.2))
     if continuation is not None:
         for branch in continuation.branches:
             flags = np.asarray(branch.stable, dtype=object)

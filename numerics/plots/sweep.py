@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from .figure import EDGE_PAD_IN, finish, fixed_layout, panel_title
+from .figure import EDGE_PAD_IN, finish, fixed_layout, on_panels, panel_title
 
 __all__ = ["plot_app", "plot_extrema"]
 
@@ -20,8 +20,11 @@ _PANELS = "abcdefghij"
 _MARGINS_IN = {"right": 0.042, "top": 0.470, "bottom": 0.473, "row_gap": 0.34}
 
 
-def _panels(sweep, title: str):
+def _panels(sweep, title: str, ax=None):
     fracs = sorted({r.pa_frac for r in sweep.runs})
+    given = on_panels(ax, len(fracs), "force amplitude")
+    if given is not None:  # the caller's panels, laid out by the caller
+        return given[0], fracs, given[1]
     cols = min(len(fracs), 2)
     rows = -(-len(fracs) // cols)
     figure = Figure(figsize=(6.0 * cols, 2.6 * rows))
@@ -32,8 +35,9 @@ def _panels(sweep, title: str):
     return figure, fracs, axes
 
 
-def _finish(figure, axes, path) -> Figure:
-    fixed_layout(figure, axes, **_MARGINS_IN)
+def _finish(figure, axes, path, own: bool = True) -> Figure:
+    if own:
+        fixed_layout(figure, axes, **_MARGINS_IN)
     return finish(figure, path)
 
 
@@ -50,9 +54,11 @@ def resonance_marks(ax, f_n0: float, fmin: float, fmax: float) -> None:
             transform=ax.get_xaxis_transform(), label="f_n0/m")
 
 
-def plot_app(sweep, path=None) -> Figure:
-    """Fig. 2: peak-to-peak amplitude App (log axis) against f_e, sweeps up and down."""
-    figure, fracs, grid = _panels(sweep, "Contact resonances: A_pp against f_e (Fig. 2)")
+def plot_app(sweep, path=None, *, ax=None) -> Figure:
+    """Fig. 2: peak-to-peak amplitude App (log axis) against f_e, sweeps up and down;
+    ``ax``: the caller's axes, one per force amplitude (increasing), to draw on."""
+    own = ax is None  # (the loop below names each panel ax)
+    figure, fracs, grid = _panels(sweep, "Contact resonances: A_pp against f_e (Fig. 2)", ax)
     axes = grid.ravel()
     for i, (ax, frac) in enumerate(zip(axes, fracs)):
         for run in (r for r in sweep.runs if r.pa_frac == frac):
@@ -70,13 +76,15 @@ def plot_app(sweep, path=None) -> Figure:
     axes[0].legend(fontsize=7, loc="upper left")
     for ax in axes[-2:]:
         ax.set_xlabel("f_e [Hz]")
-    return _finish(figure, grid, path)
+    return _finish(figure, grid, path, own=own)
 
 
-def plot_extrema(sweep, path=None) -> Figure:
+def plot_extrema(sweep, path=None, *, ax=None) -> Figure:
     """Fig. 3: every local extremum of y over one period against f_e
-    (minima light grey, maxima dark grey; down sweeps with + marks)."""
-    figure, fracs, grid = _panels(sweep, "Local extrema of y against f_e (Fig. 3)")
+    (minima light grey, maxima dark grey; down sweeps with + marks); ``ax``: the
+    caller's axes, one per force amplitude (increasing), to draw on."""
+    own = ax is None  # (the loop below names each panel ax)
+    figure, fracs, grid = _panels(sweep, "Local extrema of y against f_e (Fig. 3)", ax)
     axes = grid.ravel()
     for i, (ax, frac) in enumerate(zip(axes, fracs)):
         for run in (r for r in sweep.runs if r.pa_frac == frac):
@@ -90,7 +98,7 @@ def plot_extrema(sweep, path=None) -> Figure:
         ax.set_ylabel("y extrema [nm]")
     for ax in axes[-2:]:
         ax.set_xlabel("f_e [Hz]")
-    return _finish(figure, grid, path)
+    return _finish(figure, grid, path, own=own)
 
 
 def f_n0_hz(model: dict) -> float:

@@ -76,7 +76,7 @@ figures: $(STAMP)
 	plot([(exact_backbone(y0 * np.geomspace(0.01, 0.6, 60), model=ContactModel(p)), \
 	backbone_series(8, parameters=p), backbone_series(8, 'paper', p)) for p in contacts], \
 	'docs/figures/backbone-truncations.png')"
-	for scene in paper_checks/scenes/examples/*.toml; do \
+	for scene in numerics/scenes/examples/*.toml; do \
 	  $(PY) -m numerics scene $$scene --quiet --out docs/figures/examples > /dev/null || exit 1; \
 	done
 

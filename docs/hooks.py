@@ -23,7 +23,7 @@ import tomllib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-EXAMPLES = ROOT / "paper_checks" / "scenes" / "examples"
+EXAMPLES = ROOT / "numerics" / "scenes" / "examples"
 FIGURES = ROOT / "docs" / "figures" / "examples"
 BENCH = ROOT / "docs" / "benchmarks.json"
 #: The help texts are rendered this wide, whatever the terminal of the build.

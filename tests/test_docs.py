@@ -85,7 +85,7 @@ def test_the_command_line_page_holds_every_commands_help():
 
 def test_the_gallery_shows_every_example_with_its_figures():
     text = HOOKS.gallery()
-    examples = sorted((ROOT / "paper_checks" / "scenes" / "examples").glob("*.toml"))
+    examples = sorted((ROOT / "numerics" / "scenes" / "examples").glob("*.toml"))
     assert len(examples) == 9
     for path in examples:
         scene = tomllib.loads(path.read_text(encoding="utf-8"))
@@ -124,7 +124,7 @@ def test_bundled_scenes_are_listed_and_run_by_name_from_any_folder(tmp_path):
     assert done.returncode == 0, done.stderr
     assert done.stdout.startswith("SceneRun: 'Linear contact") and (tmp_path / "here").is_dir()
     # The docs' path to it finds the installed file too, outside the repository.
-    done = _scene("paper_checks/scenes/examples/linear-contact.toml", "--quiet", "--out",
+    done = _scene("numerics/scenes/examples/linear-contact.toml", "--quiet", "--out",
                   "there", cwd=tmp_path)
     assert done.returncode == 0, done.stderr
     missing = _scene("no-such-scene", cwd=tmp_path)

@@ -16,7 +16,7 @@ def test_the_wheel_installs_the_three_packages_and_every_subpackage_of_theirs():
              for top in ("perturb", "numerics", "paper_checks")
              for init in (ROOT / top).rglob("__init__.py")}
     # The scene files' folders hold data alone: packages of the build, without __init__.
-    data = {"paper_checks.scenes", "paper_checks.scenes.examples"}
+    data = {"paper_checks.scenes", "numerics.scenes.examples"}
     assert packages == found | data, (packages ^ (found | data))
     assert all(any((ROOT / name.replace(".", "/")).glob("*.toml")) for name in data)
 

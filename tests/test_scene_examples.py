@@ -8,7 +8,7 @@ from PIL import Image
 
 from numerics.scenes import read_scene, run_scene
 
-EXAMPLES = sorted((Path(__file__).parent.parent / "paper_checks" / "scenes" / "examples")
+EXAMPLES = sorted((Path(__file__).parent.parent / "numerics" / "scenes" / "examples")
                   .glob("*.toml"))
 #: Frames of an example's animation in the tests (the scene asks for more).
 TEST_FRAMES = 6

@@ -40,7 +40,7 @@ COMMANDS = {
               {"sympy", "scipy.optimize", "matplotlib"}),
     # A scene that draws a figure: matplotlib, but neither sympy nor scipy.optimize (a
     # review found the series' route and the backbone's figure importing them).
-    "scene": (["scene", "paper_checks/scenes/examples/bouncing.toml", "--quiet", "--out",
+    "scene": (["scene", "numerics/scenes/examples/bouncing.toml", "--quiet", "--out",
                "{tmp}"], {"sympy", "scipy.optimize"}),
     # The analytic response with its order's kernels built: no derivation.
     "perturb response": (["--perturb", "response", "--pa-frac", "0.05", "--points", "5",

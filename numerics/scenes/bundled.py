@@ -1,5 +1,6 @@
-"""The scene files shipped with the toolkit, found by name: the paper's figures
-(``paper_checks/scenes``) and the examples for teaching (its ``examples``).
+"""The scene files shipped with the toolkit, found by name: the examples for teaching
+(``numerics/scenes/examples``, data of the package that runs them) and the paper's
+figures (``paper_checks/scenes``).
 
 A bundled scene runs by its name wherever the toolkit is installed
 (``python -m numerics scene bouncing``); ``python -m numerics scene --list`` lists
@@ -15,7 +16,7 @@ from pathlib import Path
 __all__ = ["bundled_scenes", "find_scene", "scene_list"]
 
 #: Where the bundled scenes are, in the order their names are looked up.
-PACKAGES = {"example": "paper_checks.scenes.examples", "paper": "paper_checks.scenes"}
+PACKAGES = {"example": "numerics.scenes.examples", "paper": "paper_checks.scenes"}
 
 
 def bundled_scenes() -> dict[str, tuple[str, Path]]:
@@ -31,14 +32,15 @@ def bundled_scenes() -> dict[str, tuple[str, Path]]:
 
 def find_scene(name_or_path: str | Path) -> Path:
     """The scene file ``name_or_path`` names: a file that exists, else the bundled scene
-    of its name (``bouncing`` or ``bouncing.toml``; a path into ``paper_checks/scenes``
-    written as in the docs finds the installed file too). A FileNotFoundError says
+    of its name (``bouncing`` or ``bouncing.toml``; a path into the repository's scene
+    folders, as the docs write them, finds the installed file too). A FileNotFoundError says
     how to list the bundled scenes."""
     path = Path(name_or_path)
     if path.is_file():
         return path
     name = path.name.removesuffix(".toml")
-    in_docs = "paper_checks/scenes" in path.as_posix()
+    in_docs = any(folder in path.as_posix()
+                  for folder in ("paper_checks/scenes", "numerics/scenes/examples"))
     bundled = bundled_scenes()
     if name in bundled and (path.parent == Path(".") or in_docs):
         return bundled[name][1]

@@ -43,6 +43,7 @@ from perturb.common import (
     positive_float,
     program,
     progress,
+    provenance,
     run_command,
     write_atomically,
     write_json,
@@ -88,7 +89,8 @@ def _derive(args: argparse.Namespace) -> None:
         latex = timed("LaTeX", lambda: latex_of(series))
         write_atomically(args.latex, latex)
     if args.json:
-        timed("JSON", lambda: write_json(args.json, series_json(series)))
+        timed("JSON", lambda: write_json(args.json,
+                                         series_json(series) | {"provenance": provenance()}))
     print(text, end="")
     note("; ".join(f"{stage} {seconds:.2f} s" for stage, seconds in stages), quiet=args.quiet)
 
@@ -99,13 +101,13 @@ def _backbone(args: argparse.Namespace) -> None:
     series = backbone_series(args.order, args.truncation, model_parameters(args),
                              allow_slow=args.allow_slow)
     note(f"backbone series to order {args.order} in {series.elapsed_s:.3f} s", quiet=args.quiet)
-    data = series
+    data = series.as_dict()
     if args.app_m:
         frequency = series.frequency_at_app_hz(args.app_m)
-        data = {**series.as_dict(), "app_m": list(args.app_m),
-                "frequency_hz": [float(f) if np.isfinite(f) else None for f in frequency]}
+        data |= {"app_m": list(args.app_m),
+                 "frequency_hz": [float(f) if np.isfinite(f) else None for f in frequency]}
     if args.json:
-        write_json(args.json, data)
+        write_json(args.json, data | {"provenance": provenance()})
         note(f"wrote {args.json}", quiet=args.quiet)
     print(series)
     if args.app_m:

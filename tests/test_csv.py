@@ -70,3 +70,19 @@ def test_the_commands_write_csv_and_refuse_stdout_for_it(tmp_path):
                               "--pa-frac", "0.05", "--csv", "-"], capture_output=True,
                              text=True)
     assert refused.returncode == 2 and "--csv" in refused.stderr
+
+
+def test_an_atlas_is_one_row_per_cell_and_a_height_sweep_one_per_height(tmp_path):
+    from numerics import atlas, natural_frequency_vs_height
+
+    found = atlas(480.0, 500.0, 0.5, 0.5, grid=(2, 1), workers=1)
+    found.to_csv(tmp_path / "atlas.csv")
+    rows = _read(tmp_path / "atlas.csv")
+    assert [(float(r["frequency_hz"]), int(r["attractor_count"])) for r in rows] == [
+        (480.0, 4), (500.0, 4)]
+    assert rows[0]["attractor_labels"].split(";") == found.attractor_labels[0][0]
+    heights = natural_frequency_vs_height()
+    heights.to_csv(tmp_path / "heights.csv")
+    rows = _read(tmp_path / "heights.csv")
+    assert [float(r["height_m"]) for r in rows] == heights.height_m.tolist()
+    assert {"f_n0_hz", "mass_kg", "density_kg_m3"} <= set(rows[0])

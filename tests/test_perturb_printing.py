@@ -108,7 +108,7 @@ def test_cli_derive_writes_json_and_latex(tmp_path):
     assert all(f"{stage} " in stages
                for stage in ("derivation", "closed forms and text", "LaTeX", "JSON")), stages
     data = json.loads(out_json.read_text())
-    assert set(data) == {"order", "b", "terms", "paper_names"}
+    assert set(data) == {"order", "b", "terms", "paper_names", "provenance"}
     assert data["order"] == 4 and set(data["b"]) == {"1", "2", "3", "4"}
     assert set(data["terms"][0]) == {"name", "order", "harmonic", "amplitude", "phase"}
     assert len(data["paper_names"]) == 34 and data["paper_names"]["A7"]

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from perturb import PAPER_PANEL_FRACTIONS, ContactModel
-from perturb.common import int_at_least, nonnegative_float, note, plot_file
+from perturb.common import add_csv, int_at_least, nonnegative_float, note, plot_file
 from perturb.model.set_option import model_parameters
 
 from ._errors import option_error
@@ -36,6 +36,7 @@ def add_atlas_parser(sub) -> None:
     parser.add_argument("--plot", metavar="FILE.png", type=plot_file,
                         help="the map of the number of attractors per cell")
     accuracy_options(parser)
+    add_csv(parser)
     parser.set_defaults(run=_atlas, parser=parser)
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from perturb.common import GLOSSARY, output_file, write_json
+from perturb.common import GLOSSARY, output_file, provenance, write_json
 from perturb.model.set_option import add_model_option, model_parameters
 
 __all__ = ["add_info_parser", "format_info"]
@@ -30,5 +30,6 @@ def _info(args: argparse.Namespace) -> int:
 
     info = eq26_numbers(model_parameters(args)).as_dict()
     print(format_info(info))
-    write_json(args.json, info)
+    if args.json:  # the numbers, and where they come from
+        write_json(args.json, info | {"provenance": provenance()})
     return 0

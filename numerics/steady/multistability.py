@@ -125,6 +125,23 @@ class Atlas(Result):
     def derived(self) -> dict:
         return {"cell_time_s": self.cell_time_s}
 
+    def csv_rows(self) -> list[dict]:
+        """A row a cell (P_a, then f_e): the count, shares and status, and each
+        attractor's label, period, basin and App, joined by ";"."""
+        rows = []
+        for i, pa_frac in enumerate(self.pa_frac):
+            for j, frequency_hz in enumerate(self.frequency_hz):
+                rows.append({
+                    "pa_frac": pa_frac, "frequency_hz": frequency_hz,
+                    "attractor_count": self.attractor_count[i, j],
+                    "not_settled_fraction": self.not_settled_fraction[i, j],
+                    "chaotic_fraction": self.chaotic_fraction[i, j],
+                    "status": self.status[i, j], "message": self.message[i][j],
+                    **{name: ";".join(str(v) for v in getattr(self, name)[i][j])
+                       for name in ("attractor_labels", "attractor_periods",
+                                    "attractor_basins", "attractor_app_m")}})
+        return rows
+
     def summary(self) -> str:
         failed = int((self.status == Status.FAILED).sum())
         most = int(self.attractor_count.max(initial=-1))

@@ -99,6 +99,9 @@ class Result:
                 return [{index: k, **row} for k, table in enumerate(parts)
                         for row in table.csv_rows()]
             return [_scalars(part) for part in parts]  # a row each (a census's attractors)
+        rows = _column_rows(self)
+        if rows:
+            return rows
         raise ValueError(f"a {type(self).__name__} is not a table: it has no CSV form.")
 
     def to_csv(self, path: str | Path) -> None:
@@ -140,6 +143,23 @@ def _split_complex(row: dict) -> dict:
         else:
             out[key] = value
     return out
+
+
+def _column_rows(result: Result) -> list[dict]:
+    """The rows of the longest set of equal-length 1-D arrays of a result (a height
+    sweep's heights, a hysteresis loop's phases), its scalars beside; [] if none."""
+    values = {f.name: getattr(result, f.name) for f in fields(result)}
+    columns = {key: value for key, value in values.items()
+               if isinstance(value, np.ndarray) and value.ndim == 1 and value.size > 1}
+    if not columns:
+        return []
+    lengths = [value.size for value in columns.values()]
+    n = max(set(lengths), key=lambda size: (lengths.count(size), size))
+    scalars = {key: value for key, value in values.items()
+               if isinstance(value, (str, bool, int, float, np.integer, np.floating))
+               and key != "elapsed_s"}
+    kept = {key: value for key, value in columns.items() if value.size == n}
+    return [{**scalars, **{key: value[i] for key, value in kept.items()}} for i in range(n)]
 
 
 def _lane_rows(table: Result) -> list[dict]:

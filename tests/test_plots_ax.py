@@ -31,11 +31,16 @@ def test_one_axes_plots_draw_on_the_callers_axes():
     assert right.patches and len(figure.axes) == 2
 
 
-def test_panel_plots_draw_one_panel_per_amplitude_on_the_callers_axes():
+def test_panel_plots_draw_one_panel_per_amplitude_on_the_callers_axes(tmp_path):
     found = sweep([1300.0, 1400.0], [0.05, 0.1], direction="up")
     figure = Figure()
     axes = figure.subplots(2, 1)
-    assert plots.plot_app(found, ax=axes) is figure
+    places = [ax.get_position().bounds for ax in axes]
+    canvas = figure.canvas
+    assert plots.plot_app(found, tmp_path / "app.png", ax=axes) is figure
     assert all(ax.lines for ax in axes) and len(figure.axes) == 2
+    # The caller's layout, canvas and file: its panels stay where they were put.
+    assert [ax.get_position().bounds for ax in axes] == places
+    assert figure.canvas is canvas and (tmp_path / "app.png").stat().st_size > 0
     with pytest.raises(ValueError, match="`ax` must hold one axes per force amplitude"):
         plots.plot_extrema(found, ax=np.array([axes[0]]))

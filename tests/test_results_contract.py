@@ -201,4 +201,10 @@ def test_a_result_file_says_where_it_comes_from(tmp_path):
     commit = provenance["commit"]
     assert commit is None or len(commit.split("+")[0]) == 40
     assert load(tmp_path / "run.json").provenance == provenance
-    assert "provenance" not in run.as_dict()
+    assert "provenance" not in run.as_dict() and run.provenance is None
+    # Written again, a loaded result keeps where it was computed.
+    back = load(tmp_path / "run.json")
+    back.provenance = provenance | {"commit": "an-older-commit"}
+    back.to_json(tmp_path / "again.json")
+    again = json.loads((tmp_path / "again.json").read_text(encoding="utf-8"))["provenance"]
+    assert again["commit"] == "an-older-commit" and again["version"] == provenance["version"]

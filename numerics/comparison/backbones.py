@@ -77,6 +77,19 @@ class BackboneComparison(Result):
         """Orders whose limit is contact loss rather than their 1 % crossing."""
         return self.crossing_app_m > self.limit_app_m
 
+    def csv_rows(self) -> list[dict]:
+        """A row per amplitude: the exact backbone, and each order's frequency and
+        relative error (``series_hz_order_N``, ``relative_error_order_N``)."""
+        rows = []
+        for i in range(self.a1_m.size):
+            row = {"a1_m": self.a1_m[i], "app_m": self.app_m[i], "exact_hz": self.exact_hz[i],
+                   "contact_lost": self.contact_lost[i]}
+            for k, order in enumerate(self.orders):
+                row[f"series_hz_order_{order}"] = self.series_hz[k, i]
+                row[f"relative_error_order_{order}"] = self.relative_error[k, i]
+            rows.append(row)
+        return rows
+
     def summary(self) -> str:
         limits = ", ".join(f"{a * 1e9:.0f}" for a in self.limit_app_m)
         return (

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import os
+import weakref
 from pathlib import Path
 
 import numpy as np
@@ -36,10 +37,18 @@ def new_figure(size=(6.0, 4.2), layout: str | None = "constrained") -> tuple[Fig
     return figure, figure.add_subplot()
 
 
+#: The callers' figures that plot functions drew on (``ax=``): ``finish`` saves them as
+#: they are, with ``savefig``, and leaves their canvas, layout and other axes alone.
+_CALLERS: weakref.WeakSet = weakref.WeakSet()
+
+
 def on_axes(ax, size=(6.0, 4.2), layout: str | None = "constrained") -> tuple[Figure, object]:
     """The figure and axes a plot function draws on: ``ax`` (a panel of the caller's own
     figure, laid out by the caller) and its figure, or a new figure with one axes."""
-    return (ax.figure, ax) if ax is not None else new_figure(size, layout)
+    if ax is None:
+        return new_figure(size, layout)
+    _CALLERS.add(ax.figure)
+    return ax.figure, ax
 
 
 def on_panels(ax, count: int, what: str):
@@ -51,6 +60,7 @@ def on_panels(ax, count: int, what: str):
     axes = np.asarray(ax, dtype=object).ravel()
     if axes.size < count:
         raise ValueError(f"`ax` must hold one axes per {what} ({count}), got {axes.size}.")
+    _CALLERS.add(axes[0].figure)
     return axes[0].figure, axes[:count].reshape(1, count)
 
 
@@ -167,6 +177,10 @@ def finish(figure: Figure, path: str | Path | None) -> Figure:
     those ``savefig`` wrote without these changes (``tests/test_plots.py`` holds
     Fig. 2 and 3 to it); ``tests/benchmarks/bench_paper.py`` times each change.
     """
+    if figure in _CALLERS:  # the caller's figure: saved as it is, if asked
+        if path is not None:
+            figure.savefig(path, dpi=DPI)
+        return figure
     _spines_out_of_layout(figure)
     _minor_log_ticks_in_view(figure)
     if path is None:

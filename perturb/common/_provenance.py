@@ -1,7 +1,9 @@
 """Where a result file comes from: the toolkit's version (and its commit, when it runs
 from a git checkout), the versions of the libraries that computed it, and when it was
 written. Every result file (``Result.to_json``, each command's ``--json``) carries it as
-``"provenance"``; ``load`` reads it back as the object's ``provenance`` attribute."""
+``"provenance"``; ``load`` reads it back as the object's ``provenance`` attribute, and
+a loaded result written again keeps it (only ``written_utc`` is new). The version and
+commit are read once a process."""
 
 from __future__ import annotations
 
@@ -41,9 +43,10 @@ def _commit() -> str | None:
     try:
         head = subprocess.run(["git", "-C", str(_TREE), "rev-parse", "HEAD"],
                               capture_output=True, text=True, timeout=10)
-        dirty = subprocess.run(["git", "-C", str(_TREE), "status", "--porcelain",
-                                "--untracked-files=no"], capture_output=True, text=True,
-                               timeout=10)
+        # --no-optional-locks: a status of ours never takes the index lock from the user's
+        dirty = subprocess.run(["git", "--no-optional-locks", "-C", str(_TREE), "status",
+                                "--porcelain", "--untracked-files=no"], capture_output=True,
+                               text=True, timeout=10)
     except (OSError, subprocess.SubprocessError):
         return None
     if head.returncode != 0:

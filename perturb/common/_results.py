@@ -45,6 +45,9 @@ class Result:
 
     LANES = None  # the name of the field whose length is the number of lanes
     NOT_PER_LANE: tuple[str, ...] = ()
+    #: Where a result read from a file came from (its ``"provenance"``); None for one
+    #: computed in this process (its file gets this process's when written).
+    provenance = None
 
     def summary(self) -> str:
         """One line: what the result holds and how long it took."""
@@ -88,17 +91,22 @@ class Result:
         when the result is no table."""
         if self.LANES is not None:
             return _lane_rows(self)
+        own = _own_scalars(self)  # the result's own numbers go on every row
+        hints = typing.get_type_hints(type(self))
         for f in fields(self):
             parts = getattr(self, f.name)
-            if not (isinstance(parts, list) and parts
+            if not (_holds_results(hints.get(f.name)) or isinstance(parts, list) and parts
                     and all(isinstance(part, Result) for part in parts)):
                 continue
+            if not parts:  # an empty table: no rows (a census that found no attractor)
+                return []
             if all(part.LANES for part in parts):
                 index = f.name.removesuffix("es") if f.name.endswith("ches") else \
                     f.name.removesuffix("s")
-                return [{index: k, **row} for k, table in enumerate(parts)
-                        for row in table.csv_rows()]
-            return [_scalars(part) for part in parts]  # a row each (a census's attractors)
+                return [{**own, index: k, **{key: value for key, value in row.items()
+                                             if value is not None or key not in own}}
+                        for k, table in enumerate(parts) for row in table.csv_rows()]
+            return [own | _scalars(part) for part in parts]  # a row each (attractors)
         rows = _column_rows(self)
         if rows:
             return rows
@@ -145,6 +153,22 @@ def _split_complex(row: dict) -> dict:
     return out
 
 
+def _holds_results(hint) -> bool:
+    """Whether a field's type is a list of results (``list[Attractor]``)."""
+    args = typing.get_args(hint)
+    return (typing.get_origin(hint) is list and len(args) == 1 and isinstance(args[0], type)
+            and issubclass(args[0], Result))
+
+
+def _own_scalars(result: Result) -> dict:
+    """A result's own numbers and words (``pa_frac``, ``order``), for every row of the
+    tables it holds; the model, settings and times are left out."""
+    values = {f.name: getattr(result, f.name) for f in fields(result)}
+    return {key: value for key, value in values.items()
+            if isinstance(value, (str, bool, int, float, np.integer, np.floating))
+            and key != "elapsed_s"}
+
+
 def _column_rows(result: Result) -> list[dict]:
     """The rows of the longest set of equal-length 1-D arrays of a result (a height
     sweep's heights, a hysteresis loop's phases), its scalars beside; [] if none."""
@@ -167,13 +191,16 @@ def _lane_rows(table: Result) -> list[dict]:
     n = len(getattr(table, table.LANES))
     scalars, columns = {}, {}
     values = {f.name: getattr(table, f.name) for f in fields(table)} | table.derived()
+    for key in table.NOT_PER_LANE:  # not one value a lane, whatever its length
+        values.pop(key, None)
     for key, value in values.items():
         if isinstance(value, (str, bool, int, float, np.integer, np.floating)):
             scalars[key] = value
         elif (isinstance(value, list) and len(value) == n
               and all(isinstance(v, str) for v in value)):
             columns[key] = value
-        elif isinstance(value, np.ndarray) and value.ndim in (1, 2) and len(value) == n:
+        elif (isinstance(value, np.ndarray) and len(value) == n
+              and (value.ndim == 1 or value.ndim == 2 and value.shape[1] <= _WIDEST)):
             parts = [(key, value)] if value.ndim == 1 else [
                 (f"{key}_{k}", value[:, k]) for k in range(value.shape[1])]
             for name, column in parts:
@@ -184,6 +211,11 @@ def _lane_rows(table: Result) -> list[dict]:
     scalars.pop("elapsed_s", None)
     return [{**scalars, **{name: column[i] for name, column in columns.items()}}
             for i in range(n)]
+
+
+#: A per-lane array of at most this many columns (the two multipliers) is a column each;
+#: wider ones (a history of every step) are in the JSON only.
+_WIDEST = 8
 
 
 def _csv_text(rows: list[dict]) -> str:
@@ -200,6 +232,8 @@ def _csv_text(rows: list[dict]) -> str:
 
 
 def _cell(value):
+    if isinstance(value, (float, np.floating)) and not math.isfinite(value):
+        return ""  # could not be computed
     value = jsonable(value)
     if value is None:
         return ""
@@ -215,7 +249,12 @@ class _Written:
         self.result = result
 
     def as_dict(self) -> dict:
-        return self.result.as_dict() | {"provenance": provenance()}
+        """The result's data, with where it was computed: a result read from a file keeps
+        the provenance it was computed with; only ``written_utc`` is new."""
+        now = provenance()
+        origin = self.result.provenance
+        return self.result.as_dict() | {
+            "provenance": now if origin is None else origin | {"written_utc": now["written_utc"]}}
 
 
 def _check_values(cls, values: dict) -> None:

@@ -722,6 +722,7 @@ def test_an_orbit_scene_writes_the_json_its_command_writes(text, command, tmp_pa
     for data in (scene, written):  # the times differ from run to run
         data.pop("elapsed_s")
         data.pop("cell_time_s", None)
+    assert written.pop("provenance")["version"]  # the file's own: where it comes from
     assert scene == written
 
 

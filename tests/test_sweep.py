@@ -97,7 +97,7 @@ def test_sweep_json_has_the_documented_keys(tmp_path):
                     "--json", str(target), "--plot", str(tmp_path / "fig.png"), "--quiet"],
                    check=True, capture_output=True)
     data = json.loads(target.read_text())
-    assert set(data) == {"kind", "model", "settings", "runs", "elapsed_s"}
+    assert set(data) == {"kind", "model", "settings", "runs", "elapsed_s", "provenance"}
     assert len(data["runs"]) == 4
     run = data["runs"][1]
     landed = {"pa_frac", "direction", "frequency_hz", "app_m", "ymin_m", "ymax_m", "maxima_m",
